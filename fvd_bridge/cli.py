@@ -1,0 +1,63 @@
+"""The ``fvd-bridge`` command: one verb per job.
+
+Each verb lives in ``fvd_bridge/commands/<verb>.py`` with ``add_parser(sub)``
+that registers its options and sets ``func(args) -> int``.  Bad input
+(InputError) prints one line and exits with code 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import warnings
+
+from . import __version__
+from .errors import InputError
+
+VERBS = ("laws", "inspect", "rig", "calibrate", "effects", "diagnose", "demo")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="fvd-bridge", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"fvd_bridge {__version__}")
+    sub = parser.add_subparsers(dest="verb", metavar="VERB")
+    for verb in VERBS:
+        try:
+            module = importlib.import_module(f"fvd_bridge.commands.{verb}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"fvd_bridge.commands.{verb}":
+                continue  # verb not built yet
+            raise
+        module.add_parser(sub)
+    return parser
+
+
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"warning: {message}", file=sys.stderr)
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    warnings.showwarning = _show_warning
+    try:
+        return int(args.func(args) or 0)
+    except InputError as exc:
+        print(f"fvd-bridge: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # output piped into e.g. `head`
+        sys.stderr.close()
+        return 0
+    except KeyboardInterrupt:
+        print("fvd-bridge: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

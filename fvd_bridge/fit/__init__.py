@@ -1,0 +1,1 @@
+"""Fitting: the paper's objective, its GA, the default optimizer, results."""

@@ -1,0 +1,127 @@
+"""The nine laws of the paper (section 2, Table 4), in one table.
+
+'paper' bounds are Table 4 as printed.  'auto' bounds scale with the record:
+F = peak force [kN], v = peak velocity [mm/s], d = peak displacement [mm];
+they are wide enough that no law is starved (the paper's bounds pin law 2's C
+at 2 and law 6's K at 30, and keep law 7 below the measured force).
+"""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from . import algebraic, differential
+from .base import Law, Parameter
+
+
+def _c_lin(s):  # linear damping coefficient reaching up to 3x the peak force
+    return (0.0, 3.0 * s["F"] / s["v"])
+
+
+def _c_pow(s):  # C sign(v)|v|^alpha must reach F for any alpha in [0, 1]
+    return (0.0, 3.0 * s["F"] * max(1.0, 1.0 / s["v"]))
+
+
+def _alpha(s):
+    return (0.0, 1.0)
+
+
+def _k_lin(s):
+    return (0.0, 3.0 * s["F"] / s["d"])
+
+
+C_LIN = Parameter("C", "kN/(mm/s)", (0.0, 2.0), _c_lin, "linear damping coefficient")
+C_POW = Parameter("C", "kN/(mm/s)^alpha", (0.0, 2.0), _c_pow, "damping coefficient", log=False)
+ALPHA = Parameter("alpha", "-", (0.0, 1.0), _alpha, "damping exponent")
+
+LAWS = {
+    1: Law(1, "linear viscous", "algebraic", "F = C v", "paper eq. 1",
+           (C_LIN,), algebraic.law1),
+    2: Law(2, "generalized viscous", "algebraic", "F = C sign(v)|v|^alpha", "paper eq. 2",
+           (C_POW, ALPHA), algebraic.law2),
+    3: Law(3, "generalized viscous + linear spring", "algebraic",
+           "F = K1 d + C sign(v)|v|^alpha", "paper eq. 5",
+           (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 200.0), _k_lin, "parallel stiffness")),
+           algebraic.law3),
+    4: Law(4, "generalized viscous + quadratic spring", "algebraic",
+           "F = K1 d + K2 d^2 + C sign(v)|v|^alpha", "paper eq. 6",
+           (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 300.0), _k_lin, "linear stiffness"),
+            Parameter("K2", "kN/mm^2", (0.0, 300.0),
+                      lambda s: (-3.0 * s["F"] / s["d"] ** 2, 3.0 * s["F"] / s["d"] ** 2),
+                      "quadratic stiffness")),
+           algebraic.law4,
+           note="K2 d^2 is even in d, as printed: it pushes the same way in tension and compression."),
+    5: Law(5, "generalized Kelvin-Voigt", "algebraic",
+           "F = K sign(d)|d|^beta + C sign(v)|v|^alpha", "paper eq. 7",
+           (C_POW, ALPHA,
+            Parameter("K", "kN/mm^beta", (0.0, 1000.0),
+                      lambda s: (0.0, 3.0 * s["F"] * max(1.0, 1.0 / s["d"]) ** 5), "spring coefficient"),
+            Parameter("beta", "-", (0.0, 5.0), lambda s: (0.0, 5.0), "spring exponent")),
+           algebraic.law5),
+    6: Law(6, "Bouc-Wen + viscous", "differential",
+           "F = alpha K d + (1-alpha) K z + C v;  dz/dt = v - beta |v| z - beta v |z|",
+           "paper eqs. 8-9 with A = n = 1, beta = gamma (Bouc-Wen standard form)",
+           (Parameter("C", "kN/(mm/s)", (0.0, 0.3), _c_lin, "linear damping coefficient"),
+            Parameter("K", "kN/mm", (30.0, 100.0), lambda s: (0.0, 100.0 * s["F"] / s["d"]),
+                      "pre-yield stiffness"),
+            Parameter("alpha", "-", (0.0, 1.0), _alpha, "post/pre-yield stiffness ratio"),
+            Parameter("beta", "1/mm", (0.0, 5.0), lambda s: (0.0, 200.0 / s["d"]),
+                      "hysteresis shape (beta = gamma); z saturates at 1/(2 beta)")),
+           differential.law6),
+    7: Law(7, "Lu unified, visco-elastic", "differential",
+           "F = K sign(z)|z|^beta;  dz/dt = v - sign(z) (K |z|^beta / C)^(1/alpha)",
+           "paper eqs. 10-11 (Lu et al.); beta = 1 is the Maxwell model",
+           (Parameter("C", "kN/(mm/s)^alpha", (3.0, 10.0),
+                      lambda s: (0.01 * s["F"] / s["v"], 3.0 * s["F"] * max(1.0, 1.0 / s["v"])),
+                      "dashpot coefficient", log=True),
+            Parameter("alpha", "-", (0.05, 0.3), lambda s: (0.05, 1.0), "dashpot exponent"),
+            Parameter("K", "kN/mm^beta", (50.0, 200.0),
+                      lambda s: (0.1 * s["F"] / s["d"], 1000.0 * s["F"] / s["d"]),
+                      "spring coefficient", log=True),
+            Parameter("beta", "-", (0.2, 0.4), lambda s: (0.2, 2.0), "spring exponent")),
+           differential.law7,
+           note="paper bounds cap the force near C 500^0.3 = 65 kN: law 7 cannot reach a 300 kN loop."),
+    8: Law(8, "Lu unified, friction + viscous", "differential",
+           "F = z mu N + C v;  dz/dt = K/(mu N) v, z held in [-1, 1]",
+           "paper eqs. 12-13 (Lu et al.), an elastic-perfectly-plastic slip element",
+           (Parameter("C", "kN/(mm/s)", (0.1, 0.3), _c_lin, "linear damping coefficient"),
+            Parameter("K", "kN/mm", (10.0, 50.0),
+                      lambda s: (0.1 * s["F"] / s["d"], 1000.0 * s["F"] / s["d"]), "slip stiffness", log=True),
+            Parameter("mu", "-", (0.1, 1.0), lambda s: (0.1, 1.0), "friction coefficient"),
+            Parameter("N", "kN", (250.0, 450.0), lambda s: (0.0, 20.0 * s["F"]), "normal force")),
+           differential.law8,
+           note="only the slip force mu N is identifiable; mu and N alone are not."),
+    9: Law(9, "LuGre + viscous", "differential",
+           "F = beta z + C v;  dz/dt = v - alpha |v| z",
+           "paper eqs. 14-15 with eps = K = F0 = 0 (Canudas de Wit et al.)",
+           (Parameter("C", "kN/(mm/s)", (0.0, 0.3), _c_lin, "linear damping coefficient"),
+            Parameter("alpha", "1/mm", (0.0, 2.0), lambda s: (0.0, 200.0 / s["d"]),
+                      "inverse of the saturation travel; z saturates at 1/alpha"),
+            Parameter("beta", "kN/mm", (20.0, 100.0), lambda s: (0.0, 100.0 * s["F"] / s["d"]),
+                      "bristle stiffness")),
+           differential.law9),
+}
+
+
+def get_law(key) -> Law:
+    """Law by number (1-9 or '1'..'9'); an unknown name is an input error."""
+    try:
+        return LAWS[int(str(key).strip().removeprefix("law"))]
+    except (ValueError, KeyError):
+        raise InputError(f"unknown law '{key}' (known: 1-9; see `fvd-bridge laws`)") from None
+
+
+def parse_law_list(text: str) -> list[Law]:
+    """'1-9', '2,6,9' or '1-3,8' -> laws."""
+    out = []
+    for part in str(text).split(","):
+        part = part.strip()
+        if "-" in part and not part.startswith("-"):
+            a, _, b = part.partition("-")
+            try:
+                lo, hi = int(a), int(b)
+            except ValueError:
+                raise InputError(f"--laws '{text}': '{part}' is not a range like 1-9") from None
+            out.extend(get_law(k) for k in range(lo, hi + 1))
+        else:
+            out.append(get_law(part))
+    return out
