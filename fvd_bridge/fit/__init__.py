@@ -1,1 +1,8 @@
-"""Fitting: the paper's objective, its GA, the default optimizer, results."""
+"""Fitting: the paper's objective (eq. 18), its GA, the default optimizer, results."""
+
+from .api import DEFAULT_OPTIMIZER, OPTIMIZERS, fit_model, settings_for
+from .objective import noise_floor, objective
+from .result import FitResult
+
+__all__ = ["DEFAULT_OPTIMIZER", "OPTIMIZERS", "FitResult", "fit_model", "noise_floor", "objective",
+           "settings_for"]
