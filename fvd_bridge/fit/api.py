@@ -29,11 +29,11 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
 
 
 def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
-              seed: int = 0, settings=None, substeps: int = 1, on_generation=None) -> FitResult:
+              seed=0, settings=None, substeps: int = 1, on_generation=None) -> FitResult:
     """Fit ``model`` (fvd_bridge.model.Model) to ``record`` by minimising eq. 18.
 
     ``bounds``: 'auto', 'paper' or an (n_par, 2) array.  The same seed gives
-    the same result.  ``on_generation(gen, best_of)`` reports progress.
+    the same result (``seed``: an int or a list of ints, as numpy's default_rng takes).  ``on_generation(gen, best_of)`` reports progress.
     """
     if isinstance(bounds, str):
         mode, b = bounds, model.bounds(bounds, record.scales())
@@ -62,5 +62,5 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
             history.append(of)
     return FitResult(spec=model.spec, names=model.names, units=model.units,
                      params=space.to_params(x), of=float(of), bounds=b, bounds_mode=mode,
-                     optimizer=optimizer, seed=int(seed), evaluations=int(evals), history=history,
+                     optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
                      wall_s=time.perf_counter() - start, record=record.name)

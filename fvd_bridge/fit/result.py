@@ -19,7 +19,7 @@ class FitResult:
     bounds: np.ndarray
     bounds_mode: str
     optimizer: str
-    seed: int
+    seed: object  # int or list of ints
     evaluations: int
     history: list = field(default_factory=list)
     wall_s: float = 0.0

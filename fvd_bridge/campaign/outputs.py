@@ -1,0 +1,179 @@
+"""Campaign outputs (schema_version 1): calibrated parameter files, tables, figures.
+
+DIR/params/<device>/law<SPEC>.yaml  one calibrated parameter set per (device, model):
+                                    what the exporters read (best run's parameters)
+DIR/table_A7.csv    mean and sigma over runs of OF and every parameter (Table A.7)
+DIR/robustness.csv  Delta_mn, Delta_n per parameter and beta per model (eqs. 19-23)
+DIR/pareto.csv      mean OF vs beta per model, non-dominated flag (Fig. 14)
+DIR/summary.json    settings, devices, per-model summary, every run, warnings
+DIR/figures/*.png   loops, OF bars, parameter dispersion, Pareto front
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from .. import __version__
+from ..io.staging import staged_dir, write_csv_rows, write_json, write_yaml
+from ..model import parse_model
+from . import stats
+from .checks import fit_warnings
+
+SCHEMA_VERSION = 1
+
+
+def spec_file(spec: str) -> str:
+    """'2+friction' -> 'law2+friction.yaml'."""
+    return f"law{spec}.yaml"
+
+
+def summarize(records, results: dict, cs) -> dict:
+    """Everything the outputs hold, computed once from the runs."""
+    devices = [r.name for r in records]
+    law1 = {dev: np.mean([x.of for x in results[(dev, "1")]]) for dev in devices if (dev, "1") in results}
+    models = {}
+    for spec in cs.specs:
+        per_dev = [results[(dev, spec)] for dev in devices]
+        names, units = per_dev[0][0].names, per_dev[0][0].units
+        P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)
+        OF = np.array([[r.of for r in runs] for runs in per_dev])          # (dev, run)
+        p_mean, p_sigma = P.mean(axis=1), P.std(axis=1)
+        delta = stats.deltas(p_mean)
+        delta_n, beta = stats.robustness(p_mean)
+        models[spec] = {
+            "names": names, "units": units,
+            "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
+            "p_mean": p_mean, "p_sigma": p_sigma, "delta": delta, "delta_n": delta_n, "beta": beta,
+            "of_overall": float(OF.mean()),
+            "warnings": {dev: fit_warnings(spec, runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
+            "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, per_dev)},
+        }
+    specs = list(cs.specs)
+    front = stats.non_dominated(np.array([[models[s]["of_overall"], models[s]["beta"]] for s in specs]))
+    for s, nd in zip(specs, front):
+        models[s]["non_dominated"] = bool(nd)
+    return {"devices": devices, "models": models}
+
+
+def _num(x):
+    x = float(x)
+    return None if math.isnan(x) or math.isinf(x) else x
+
+
+def _param_file(rec, spec, summary_model, cs) -> dict:
+    law = parse_model(spec, _plugins(cs)).law
+    best = summary_model["best"][rec.name]
+    dev_index = summary_model["_dev_index"][rec.name]
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "kind": "fvd_bridge.calibration",
+        "fvd_bridge_version": __version__,
+        "model": spec,
+        "law": {"number": law.number, "name": law.name, "equation": law.equation, "source": law.source},
+        "effects": spec.split("+")[1:],
+        "units": {"force": "kN", "displacement": "mm", "time": "s"},
+        "parameters": {
+            n: {"value": float(v), "unit": u, "bounds": [float(lo), float(hi)],
+                "mean_over_runs": float(summary_model["p_mean"][dev_index][k]),
+                "sigma_over_runs": float(summary_model["p_sigma"][dev_index][k])}
+            for k, (n, u, v, (lo, hi)) in enumerate(zip(best.names, best.units, best.params, best.bounds))},
+        "of": float(best.of),
+        "of_mean_over_runs": float(summary_model["of_mean"][dev_index]),
+        "of_sigma_over_runs": float(summary_model["of_sigma"][dev_index]),
+        "record": {"name": rec.name, "file": rec.provenance.get("file"),
+                   "samples": rec.n, "dt": rec.dt, "velocity": rec.provenance.get("velocity")},
+        "settings": {**cs.as_dict(), "best_run_seed": list(np.atleast_1d(best.seed).tolist())},
+        "warnings": [w["message"] for w in summary_model["warnings"][rec.name]],
+    }
+
+
+def write_outputs(out: str, records, results: dict, cs, figures: bool = True, progress=None) -> dict:
+    """Write every output into ``out`` (all or nothing); returns the summary."""
+    summary = summarize(records, results, cs)
+    devices = summary["devices"]
+    for m in summary["models"].values():
+        m["_dev_index"] = {d: i for i, d in enumerate(devices)}
+    with staged_dir(out) as stage:
+        for rec in records:
+            for spec in cs.specs:
+                write_yaml(os.path.join(stage, "params", rec.name, spec_file(spec)),
+                           _param_file(rec, spec, summary["models"][spec], cs))
+        _tables(stage, summary, cs)
+        write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
+        if figures:
+            _figures(stage, records, results, summary, cs, progress)
+    return summary
+
+
+def _tables(stage, summary, cs):
+    rows, rob, par = [], [], []
+    devices = summary["devices"]
+    for spec, m in summary["models"].items():
+        for k, dev in enumerate(devices):
+            rows.append([spec, dev, "OF", "-", m["of_mean"][k], m["of_sigma"][k]])
+            for j, (n, u) in enumerate(zip(m["names"], m["units"])):
+                rows.append([spec, dev, n, u, m["p_mean"][k][j], m["p_sigma"][k][j]])
+            if spec.split("+")[0] == "8":  # the identifiable product
+                prod = m["p_mean"][k][2] * m["p_mean"][k][3]
+                rows.append([spec, dev, "mu*N", "kN", prod, float("nan")])
+        for j, n in enumerate(m["names"]):
+            for k, dev in enumerate(devices):
+                rob.append([spec, n, dev, _num(m["delta"][k][j]), _num(m["delta_n"][j]), _num(m["beta"])])
+        par.append([spec, m["of_overall"], _num(m["beta"]), int(m["non_dominated"])])
+    write_csv_rows(os.path.join(stage, "table_A7.csv"), ["model", "device", "quantity", "unit", "mean", "sigma"], rows)
+    write_csv_rows(os.path.join(stage, "robustness.csv"),
+                   ["model", "parameter", "device", "delta_mn", "Delta_n", "beta"], rob)
+    write_csv_rows(os.path.join(stage, "pareto.csv"), ["model", "of_mean", "beta", "non_dominated"], par)
+
+
+def _summary_json(records, results, summary, cs) -> dict:
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "fvd_bridge_version": __version__,
+        "settings": cs.as_dict(),
+        "devices": [{"name": r.name, "file": r.provenance.get("file"), "samples": r.n, "dt": r.dt,
+                     "peak_force_kN": float(np.max(np.abs(r.F)))} for r in records],
+        "models": {spec: {"of_mean": m["of_overall"], "beta": _num(m["beta"]),
+                          "non_dominated": m["non_dominated"],
+                          "warnings": {d: m["warnings"][d] for d in summary["devices"]}}
+                   for spec, m in summary["models"].items()},
+        "runs": [{"device": dev, "model": spec, "run": i, "of": r.of,
+                  "params": dict(zip(r.names, map(float, r.params))), "evaluations": r.evaluations,
+                  "wall_s": round(r.wall_s, 3), "seed": list(np.atleast_1d(r.seed).tolist())}
+                 for (dev, spec), runs in results.items() for i, r in enumerate(runs)],
+    }
+
+
+def _figures(stage, records, results, summary, cs, progress):
+    from ..plots import campaign as plots
+
+    fig_dir = os.path.join(stage, "figures")
+    os.makedirs(fig_dir, exist_ok=True)
+    specs, devices = list(cs.specs), summary["devices"]
+    for rec in records:
+        for spec in specs:
+            m = summary["models"][spec]
+            best = m["best"][rec.name]
+            model = parse_model(spec, _plugins(cs))
+            F = model.force(rec, best.params[None, :])[0]
+            plots.loops(rec, F, f"{rec.name}, law {spec}: OF {best.of:.4f}",
+                        os.path.join(fig_dir, f"loops_{rec.name}_law{spec}.png"))
+    M = summary["models"]
+    plots.of_bars(specs, devices, np.array([M[s]["of_mean"] for s in specs]),
+                  np.array([M[s]["of_sigma"] for s in specs]), os.path.join(fig_dir, "of_bars.png"))
+    for spec in specs:
+        plots.dispersion(spec, M[spec]["names"], devices, M[spec]["p_mean"], M[spec]["p_sigma"],
+                         os.path.join(fig_dir, f"dispersion_law{spec}.png"))
+    plots.pareto(specs, [M[s]["of_overall"] for s in specs], [M[s]["beta"] for s in specs],
+                 [M[s]["non_dominated"] for s in specs], os.path.join(fig_dir, "pareto.png"))
+
+
+def _plugins(cs):
+    if not cs.plugins:
+        return None
+    from ..effects.plugins import load_plugins
+
+    return load_plugins(cs.plugins)

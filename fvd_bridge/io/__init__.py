@@ -1,0 +1,1 @@
+"""Writing outputs: staged directories, YAML/CSV/JSON helpers."""

@@ -1,0 +1,58 @@
+"""An output directory written all-or-nothing.
+
+Files are written into a sibling staging directory; only when everything
+succeeded are they moved into place, so an error leaves no partial output.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import os
+import shutil
+
+import yaml
+
+
+@contextlib.contextmanager
+def staged_dir(out: str):
+    """Yield a staging path; on success its content replaces/merges into ``out``."""
+    out = os.path.abspath(out)
+    parent = os.path.dirname(out)
+    os.makedirs(parent, exist_ok=True)
+    stage = os.path.join(parent, f".{os.path.basename(out)}.partial-{os.getpid()}")
+    shutil.rmtree(stage, ignore_errors=True)
+    os.makedirs(stage)
+    try:
+        yield stage
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    if not os.path.exists(out):
+        os.replace(stage, out)
+        return
+    for root, _, files in os.walk(stage):
+        rel = os.path.relpath(root, stage)
+        os.makedirs(os.path.join(out, rel), exist_ok=True)
+        for f in files:
+            os.replace(os.path.join(root, f), os.path.join(out, rel, f))
+    shutil.rmtree(stage, ignore_errors=True)
+
+
+def write_yaml(path: str, data) -> None:
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as fh:
+        yaml.safe_dump(data, fh, sort_keys=False, width=100)
+
+
+def write_json(path: str, data) -> None:
+    with open(path, "w") as fh:
+        json.dump(data, fh, indent=1)
+
+
+def write_csv_rows(path: str, header: list, rows: list) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        w.writerows(rows)

@@ -1,0 +1,86 @@
+"""Campaign figures: loops (paper Fig. 3, App. B), OF bars (Fig. 4),
+parameter dispersion (Figs. 5-13), Pareto front (Fig. 14)."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .save import save  # noqa: E402
+
+
+def loops(record, F_model: np.ndarray, title: str, path: str) -> str:
+    """Measured vs model: F-d and F-v loops and F-t history."""
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4))
+    for a, x, lab in ((ax[0], record.d, "displacement d [mm]"), (ax[1], record.v, "velocity v [mm/s]")):
+        a.plot(x, record.F, ".", ms=1.5, color="tab:blue", label="measured")
+        a.plot(x, F_model, "-", lw=0.8, color="tab:red", label="model")
+        a.set_xlabel(lab)
+        a.set_ylabel("force F [kN]")
+        a.grid(alpha=0.3)
+    ax[2].plot(record.t, record.F, ".", ms=1.5, color="tab:blue", label="measured")
+    ax[2].plot(record.t, F_model, "-", lw=0.8, color="tab:red", label="model")
+    ax[2].set_xlabel("time t [s]")
+    ax[2].set_ylabel("force F [kN]")
+    ax[2].grid(alpha=0.3)
+    ax[2].legend(loc="upper right")
+    fig.suptitle(title)
+    return save(fig, path)
+
+
+def of_bars(specs, devices, mean: np.ndarray, sigma: np.ndarray, path: str) -> str:
+    """OF mean (a) and sigma on a log scale (b) per model and device; arrays (n_spec, n_dev)."""
+    fig, ax = plt.subplots(2, 1, figsize=(max(8, 1.1 * len(specs)), 7), sharex=True)
+    width = 0.8 / max(len(devices), 1)
+    x = np.arange(len(specs))
+    for k, dev in enumerate(devices):
+        ax[0].bar(x + k * width, mean[:, k], width, label=dev)
+        ax[1].bar(x + k * width, np.maximum(sigma[:, k], 1e-16), width, label=dev)
+    ax[0].set_ylabel("OF mean (a)")
+    ax[1].set_ylabel("OF sigma over runs (b)")
+    ax[1].set_yscale("log")
+    ax[1].set_xticks(x + 0.4 - width / 2, [f"law {s}" for s in specs], rotation=30)
+    ax[0].legend(fontsize=8, ncol=min(len(devices), 5))
+    for a in ax:
+        a.grid(axis="y", alpha=0.3)
+    return save(fig, path)
+
+
+def dispersion(spec: str, names, devices, means: np.ndarray, sigmas: np.ndarray, path: str) -> str:
+    """Per parameter: each device's mean as % variation from the mean over devices,
+    with its run-to-run sigma as an error bar (normalised by the same mean)."""
+    n = len(names)
+    fig, ax = plt.subplots(1, n, figsize=(3.2 * n + 1, 3.4), squeeze=False)
+    for j, name in enumerate(names):
+        ref = means[:, j].mean()
+        a = ax[0, j]
+        if ref != 0:
+            a.errorbar(np.arange(len(devices)), 100 * (means[:, j] / ref - 1), yerr=100 * sigmas[:, j] / abs(ref),
+                       fmt="o", capsize=4)
+        a.axhline(0.0, ls=":", color="tab:red")
+        a.set_xticks(range(len(devices)), devices, rotation=45, fontsize=7)
+        a.set_title(f"{name} (mean {ref:.4g})", fontsize=9)
+        a.set_ylabel("variation from mean [%]")
+        a.grid(alpha=0.3)
+    fig.suptitle(f"law {spec}: identified parameters across devices")
+    return save(fig, path)
+
+
+def pareto(specs, of_mean, beta, front, path: str) -> str:
+    """Mean OF against robustness index beta; the non-dominated models joined."""
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    of_mean, beta, front = map(np.asarray, (of_mean, beta, front))
+    ax.scatter(beta[~front], of_mean[~front], color="grey", label="dominated")
+    ax.scatter(beta[front], of_mean[front], color="tab:red", label="non-dominated")
+    order = np.argsort(beta[front])
+    ax.plot(beta[front][order], of_mean[front][order], "--", color="tab:red", lw=0.8)
+    for s, b, f in zip(specs, beta, of_mean):
+        ax.annotate(f"law {s}", (b, f), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    ax.set_xlabel("robustness index beta [-] (lower = more robust)")
+    ax.set_ylabel("mean OF [-] (lower = more accurate)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return save(fig, path)

@@ -1,0 +1,108 @@
+"""CSV reader: comment lines (#), a header row, then one sample per row.
+
+Cells are separated by commas (or semicolons, tabs or blanks, detected from
+the header). Canonical columns are ``t,d,F`` (and optional ``v``); other
+names come from ``ReadOptions.columns``. Rows in messages are the file's own
+line numbers, counted from 1.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+
+import numpy as np
+
+from ..errors import InputError
+from .options import ReadOptions
+from .raw import RawColumns
+
+#: separators tried on the header line, in order of preference; None: blanks
+DELIMITERS = (",", ";", "\t")
+
+
+def read_csv(path: str, opts: ReadOptions) -> RawColumns:
+    """Read the t/d/F[/v] columns of a CSV file (values in the file's units)."""
+    lines = _lines(path)
+    body = [(no, ln) for no, ln in enumerate(lines, start=1) if ln.strip() and not ln.lstrip().startswith("#")]
+    if not body:
+        raise InputError(f"{path}: empty file (expected a header such as t,d,F)")
+    (header_no, header_line), body = body[0], body[1:]
+    delim = next((c for c in DELIMITERS if c in header_line), None)
+    header = [h.strip() for h in _split(header_line, delim)]
+    if all(_is_number(h) for h in header):
+        raise InputError(f"{path}: row {header_no}: expected a header such as t,d,F, found numbers "
+                         f"('{header_line.strip()[:40]}')")
+    if not body:
+        raise InputError(f"{path}: row {header_no}: a header but no data rows")
+    index, names = _locate(path, header_no, header, opts)
+    rows = np.array([no for no, _ in body], dtype=int)
+    data = {key: np.empty(rows.size) for key in index}
+    for j, (no, line) in enumerate(body):
+        cells = _split(line, delim)
+        for key, c in index.items():
+            if c >= len(cells):
+                raise InputError(f"{path}: row {no}, column '{names[key]}': missing (the row has {len(cells)} "
+                                 f"cells, the header {len(header)}: columns of unequal length)")
+            cell = cells[c].strip()
+            try:
+                data[key][j] = float(cell)
+            except ValueError:
+                what = "empty cell" if not cell else f"'{cell[:30]}' is not a number"
+                raise InputError(f"{path}: row {no}, column '{names[key]}': {what}") from None
+        if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
+            raise InputError(f"{path}: row {no}, column {len(header) + 1}: the row has {len(cells)} cells, "
+                             f"the header {len(header)} (columns of unequal length)")
+    time_given = "t" in data
+    if not time_given:
+        data["t"], names["t"] = opts.dt * np.arange(rows.size), f"dt={opts.dt:g} s"
+    return RawColumns(data, rows, names, time_given)
+
+
+def _lines(path: str) -> list[str]:
+    """The file's lines (\\n, \\r\\n or \\r endings), as UTF-8 or else Latin-1 text."""
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or type(exc).__name__})") from None
+    if b"\x00" in raw[:4096]:
+        raise InputError(f"{path}: a binary file, not CSV text (a MATLAB file needs the .mat extension)")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = raw.decode("latin-1")
+    return re.split(r"\r\n|\r|\n", text)
+
+
+def _split(line: str, delim: str | None) -> list[str]:
+    if delim is None:
+        return line.split()
+    return next(csv.reader([line], delimiter=delim), [])
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> tuple[dict, dict]:
+    """Header position of each wanted column; v is optional, t may come from dt."""
+    wanted = {"t": "t", "d": "d", "F": "F", **opts.columns}
+    index, names = {}, {}
+    for key, col in wanted.items():
+        if col in header:
+            index[key], names[key] = header.index(col), col
+            continue
+        if key == "t" and "t" not in opts.columns and opts.dt is not None:
+            continue  # time from --dt
+        hint = "" if key in opts.columns else (
+            f"; name the columns with --columns t=...,d=...,F=... or a sidecar YAML")
+        raise InputError(f"{path}: row {header_no}, column '{col}' (for {key}) not found; the header has: "
+                         f"{', '.join(header)}{hint}")
+    if "v" not in index and "v" in header and "v" not in opts.columns:
+        index["v"], names["v"] = header.index("v"), "v"
+    return index, names

@@ -1,0 +1,137 @@
+"""How to read a record: column mapping, units, .mat variable, time step [s].
+
+The same keys come from CLI options (``--columns``, ``--units``, ``--mat-var``,
+``--dt``) or from a YAML sidecar ``NAME.yaml`` next to the record file::
+
+    columns: {t: time, d: disp, F: load}   # CSV header names, or .mat indices
+    units:   {t: ms, d: m, F: N}           # default s, mm, kN, mm/s
+    mat_var: x_F                            # .mat only
+    dt: 0.01                                # [s], when there is no time column
+
+Options given explicitly win over the sidecar, key by key.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field, replace
+
+import yaml
+
+from ..errors import InputError
+from ..units import CANONICAL, factor
+
+SIDECAR_KEYS = ("columns", "units", "mat_var", "dt")
+
+
+@dataclass
+class ReadOptions:
+    """How to read a record.
+
+    ``columns`` maps t/d/F/v to a CSV header name, a column index of
+    ``mat_var`` or a .mat variable name; ``units`` maps t/d/F/v to a unit
+    (see fvd_bridge.units); ``dt`` [s] builds the time column when the file
+    has none; ``sg_window`` [samples] and ``sg_order`` set the Savitzky-Golay
+    velocity differentiator (window None: about 1/25 of the period).
+    ``sidecar`` is the YAML file the options were completed from, if any.
+    """
+
+    columns: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
+    mat_var: str | None = None
+    dt: float | None = None
+    sg_window: int | None = None
+    sg_order: int = 3
+    sidecar: str | None = None
+
+
+def parse_mapping(text: str | None, option: str) -> dict:
+    """'t=time,d=disp' -> {'t': 'time', 'd': 'disp'}; refuses keys other than t, d, F, v."""
+    if not text:
+        return {}
+    out = {}
+    for item in text.split(","):
+        key, sep, value = item.partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or not key or not value:
+            raise InputError(f"{option} '{item}': expected KEY=VALUE (e.g. {option} t=time,d=disp,F=load)")
+        if key not in CANONICAL:
+            raise InputError(f"{option} '{item}': unknown key '{key}' (expected t, d, F or v)")
+        if key in out:
+            raise InputError(f"{option} '{item}': key '{key}' given twice")
+        out[key] = value
+    return out
+
+
+def sidecar_path(path: str) -> str:
+    """The sidecar of ``data/run1.csv`` is ``data/run1.yaml``."""
+    return os.path.splitext(path)[0] + ".yaml"
+
+
+def with_sidecar(path: str, opts: ReadOptions) -> ReadOptions:
+    """Complete ``opts`` from the sidecar of ``path`` when there is one."""
+    side = sidecar_path(path)
+    if not os.path.isfile(side):
+        return opts
+    data = _load_sidecar(side)
+    return replace(
+        opts,
+        columns={**data.get("columns", {}), **opts.columns},
+        units={**data.get("units", {}), **opts.units},
+        mat_var=opts.mat_var if opts.mat_var is not None else data.get("mat_var"),
+        dt=opts.dt if opts.dt is not None else data.get("dt"),
+        sidecar=side)
+
+
+def _load_sidecar(side: str) -> dict:
+    """Parse and check a sidecar; every error names the sidecar and its line."""
+    try:
+        with open(side, encoding="utf-8-sig") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{side}: cannot read the sidecar ({type(exc).__name__})") from None
+    try:
+        node = yaml.compose(text)
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"row {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise InputError(f"{side}: {where}not valid YAML ({problem})") from None
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise InputError(f"{side}: row 1: expected a mapping with keys {', '.join(SIDECAR_KEYS)}")
+    lines = {k.value: k.start_mark.line + 1 for k, _ in node.value} if isinstance(node, yaml.MappingNode) else {}
+
+    def fail(key, message):
+        raise InputError(f"{side}: row {lines.get(key, 1)}, key '{key}': {message}")
+
+    out = {}
+    for key, value in data.items():
+        if key not in SIDECAR_KEYS:
+            fail(key, f"unknown key (expected {', '.join(SIDECAR_KEYS)})")
+        if key in ("columns", "units"):
+            if not isinstance(value, dict):
+                fail(key, "expected a mapping such as {t: time, d: disp, F: load}")
+            for k, v in value.items():
+                if k not in CANONICAL:
+                    fail(key, f"unknown entry '{k}' (expected t, d, F or v)")
+                if not isinstance(v, (str, int)) or isinstance(v, bool):
+                    fail(key, f"{k}: expected a name{' or column index' if key == 'columns' else ''}, got {v!r}")
+            out[key] = {k: str(v) for k, v in value.items()}
+        elif key == "mat_var":
+            if not isinstance(value, str):
+                fail(key, f"expected a variable name, got {value!r}")
+            out[key] = value
+        elif key == "dt":
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
+                fail(key, f"expected a positive time step in s, got {value!r}")
+            out[key] = float(value)
+    for k, unit in out.get("units", {}).items():
+        try:
+            factor(k, unit)
+        except InputError as exc:
+            fail("units", str(exc))
+    return out

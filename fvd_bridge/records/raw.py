@@ -1,0 +1,28 @@
+"""Columns as a reader found them, before unit conversion and checks."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class RawColumns:
+    """What a reader hands to the checks.
+
+    ``data`` maps t/d/F/v to values in the file's own units; ``rows`` holds,
+    for every sample, the row that messages name (1-based: the line of a CSV
+    file, the row of a .mat matrix); ``names`` says how each column is called
+    in the file; ``time_given`` is False when t [s] was built from a time step.
+    """
+
+    data: dict
+    rows: np.ndarray
+    names: dict
+    time_given: bool = True
+
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return int(self.rows.size)
