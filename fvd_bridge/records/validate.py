@@ -1,8 +1,10 @@
-"""Checks that turn a bad record into a one-line message naming file, row and column."""
+"""Checks that turn a bad record into a one-line message naming file, row and column.
+
+Every ``check_*`` raises InputError on a fault; notes that do not stop a
+record (resampling, suspicious units) are returned as strings.
+"""
 
 from __future__ import annotations
-
-import warnings
 
 import numpy as np
 
@@ -12,64 +14,118 @@ from .cycles import count_cycles
 #: relative deviation of a time step from the median step that is tolerated
 #: by resampling onto a uniform grid (beyond it the record is refused)
 TIME_STEP_TOLERANCE = 0.10
-#: jitter below this is round-off in the stored times, not irregular sampling
-TIME_STEP_JITTER = 1e-6
-#: peaks beyond these are absurd for a damper in kN, mm, s: a unit is wrong
+#: times within this fraction of a step of a uniform grid are round-off of
+#: that grid: they are replaced by it without interpolation or warning
+TIME_GRID_JITTER = 1.0e-3
+#: peaks beyond these (kN, mm, mm/s) are absurd for a damper: a unit is wrong
 ABSURD = {"F": 5.0e4, "d": 5.0e3, "v": 5.0e4}
+#: fewest samples a record may have
+MIN_SAMPLES = 8
+#: fewest displacement cycles a record may have (a little under 1 for round-off)
+MIN_CYCLES = 0.95
+#: measured and differentiated peak velocity may differ by this factor either way
+VELOCITY_RATIO = 10.0
+#: notes: a step above this [s] or a displacement amplitude below this [mm]
+#: usually means a unit was left out (time in ms, displacement in m)
+LONG_STEP_S = 1.0
+SMALL_AMPLITUDE_MM = 0.05
 
 
-def check_finite(where: str, name: str, x: np.ndarray, row0: int) -> None:
-    """Refuse NaN/inf; ``row0`` is the file row of the first sample."""
+def check_length(where: str, rows: np.ndarray) -> None:
+    """Refuse a record with fewer than MIN_SAMPLES samples."""
+    if rows.size < MIN_SAMPLES:
+        span = f"row {rows[0]}" if rows.size == 1 else f"rows {rows[0]}..{rows[-1]}"
+        raise InputError(f"{where}: {span}: only {rows.size} samples; a record needs at least {MIN_SAMPLES}")
+
+
+def check_finite(where: str, name: str, x: np.ndarray, rows: np.ndarray) -> None:
+    """Refuse NaN/inf; ``rows[i]`` is the file row of sample i."""
     bad = np.flatnonzero(~np.isfinite(x))
     if bad.size:
-        raise InputError(f"{where}: row {row0 + bad[0]}, column '{name}': value {x[bad[0]]} is not finite")
+        raise InputError(f"{where}: row {rows[bad[0]]}, column '{name}': value {x[bad[0]]} is not finite")
 
 
-def check_time(where: str, name: str, t: np.ndarray, row0: int) -> bool:
-    """Refuse time that does not increase or is irregular beyond tolerance.
+def check_time(where: str, name: str, t: np.ndarray, rows: np.ndarray) -> float:
+    """Refuse time [s] that does not increase or whose step is irregular beyond tolerance.
 
-    Returns True when the step is irregular within tolerance (resample).
+    Returns the largest distance of t from the uniform grid through its ends,
+    as a fraction of the mean step (0 for a perfectly uniform grid).
     """
     steps = np.diff(t)
     bad = np.flatnonzero(steps <= 0)
     if bad.size:
         i = bad[0] + 1
-        raise InputError(f"{where}: row {row0 + i}, column '{name}': time {t[i]:g} s does not "
-                         f"increase (previous {t[i - 1]:g} s)")
+        raise InputError(f"{where}: row {rows[i]}, column '{name}': time {t[i]:.10g} s does not "
+                         f"increase (previous {t[i - 1]:.10g} s)")
     h = float(np.median(steps))
     dev = np.abs(steps - h) / h
     worst = int(np.argmax(dev))
     if dev[worst] > TIME_STEP_TOLERANCE:
-        raise InputError(f"{where}: row {row0 + worst + 1}, column '{name}': time step {steps[worst]:g} s "
-                         f"differs from the median step {h:g} s by {100 * dev[worst]:.0f}% "
+        raise InputError(f"{where}: row {rows[worst + 1]}, column '{name}': time step {steps[worst]:.6g} s "
+                         f"differs from the median step {h:.6g} s by {100 * dev[worst]:.0f}% "
                          f"(tolerance {100 * TIME_STEP_TOLERANCE:.0f}%)")
-    return bool(dev[worst] > TIME_STEP_JITTER)
+    mean = (t[-1] - t[0]) / (t.size - 1)
+    return float(np.max(np.abs(t - (t[0] + mean * np.arange(t.size)))) / mean)
 
 
-def check_signal(where: str, name: str, quantity: str, x: np.ndarray, unit_hint: str) -> None:
-    """Refuse a constant signal or one whose peak is absurd for its units."""
+def uniform_grid(t: np.ndarray, cols: dict, where: str, off_grid: float) -> tuple[np.ndarray, dict, str | None]:
+    """Put the samples on the uniform grid through t[0] and t[-1] with the same count.
+
+    ``off_grid`` is check_time's result: within TIME_GRID_JITTER the times are
+    only replaced; beyond it every column is linearly interpolated and a note
+    says so.
+    """
+    tu = np.linspace(t[0], t[-1], t.size)
+    if off_grid <= TIME_GRID_JITTER:
+        return tu, cols, None
+    note = (f"{where}: irregular time step (samples up to {100 * off_grid:.1f}% of a step off a uniform grid, "
+            f"steps within the {100 * TIME_STEP_TOLERANCE:.0f}% tolerance); resampled linearly "
+            f"to a uniform {tu[1] - tu[0]:.6g} s")
+    return tu, {k: np.interp(tu, t, x) for k, x in cols.items()}, note
+
+
+def check_signal(where: str, name: str, quantity: str, x: np.ndarray, rows: np.ndarray,
+                 unit: str, to_canonical: float, canonical: str) -> None:
+    """Refuse a constant signal or one whose peak is absurd for its stated unit.
+
+    ``x`` is in the canonical unit (kN, mm, mm/s); ``unit`` is the unit the
+    file was read in and ``to_canonical`` its factor.
+    """
     if np.ptp(x) == 0.0:
-        raise InputError(f"{where}: column '{name}' ({quantity}) is constant")
-    peak = float(np.max(np.abs(x)))
-    if quantity in ABSURD and peak > ABSURD[quantity]:
-        raise InputError(f"{where}: column '{name}': peak {peak:.4g} {unit_hint} is absurd for a damper "
-                         f"test; check the units (e.g. --units {quantity}=...)")
+        raise InputError(f"{where}: column '{name}' ({quantity}) is constant "
+                         f"({x[0] / to_canonical:g} {unit} at rows {rows[0]}..{rows[-1]})")
+    i = int(np.argmax(np.abs(x)))
+    if quantity in ABSURD and abs(x[i]) > ABSURD[quantity]:
+        raise InputError(f"{where}: row {rows[i]}, column '{name}': {quantity} = {x[i] / to_canonical:.4g} {unit} "
+                         f"is absurd for a damper test (limit {ABSURD[quantity]:g} {canonical}); "
+                         f"check the units (set them with --units {quantity}=UNIT or the sidecar)")
 
 
 def check_cycles(where: str, name: str, d: np.ndarray) -> float:
     """Refuse a record with less than one full displacement cycle; return the count."""
     n = count_cycles(d)
-    if n < 0.95:
+    if n < MIN_CYCLES:
         raise InputError(f"{where}: column '{name}': only {n:.2f} displacement cycles; "
                          f"at least one full cycle is needed")
     return n
 
 
-def resample_uniform(t: np.ndarray, cols: dict[str, np.ndarray], where: str) -> tuple[np.ndarray, dict]:
-    """Linear resampling onto a uniform grid with the median step; warns."""
-    h = float(np.median(np.diff(t)))
-    n = int(np.floor((t[-1] - t[0]) / h + 1e-9)) + 1
-    tu = t[0] + h * np.arange(n)
-    warnings.warn(f"{where}: irregular time step (within {100 * TIME_STEP_TOLERANCE:.0f}%); "
-                  f"resampled to a uniform {h:g} s", stacklevel=3)
-    return tu, {k: np.interp(tu, t, x) for k, x in cols.items()}
+def check_velocity(where: str, name: str, v: np.ndarray, v_from_d: np.ndarray) -> None:
+    """Refuse a measured velocity [mm/s] whose peak is far from that of d's derivative."""
+    peak, ref = float(np.max(np.abs(v))), float(np.max(np.abs(v_from_d)))
+    if ref > 0 and not 1 / VELOCITY_RATIO <= peak / ref <= VELOCITY_RATIO:
+        raise InputError(f"{where}: column '{name}': peak velocity {peak:.4g} mm/s is {peak / ref:.3g} times "
+                         f"that of the displacement's derivative ({ref:.4g} mm/s); check the units of v and d")
+
+
+def unit_notes(where: str, dt: float, d: np.ndarray, names: dict) -> list[str]:
+    """Notes on a time step [s] or displacement amplitude [mm] that suggest a missing unit."""
+    notes = []
+    if dt > LONG_STEP_S:
+        notes.append(f"{where}: column '{names['t']}': time step {dt:g} s is long for a damper test; "
+                     f"is time in ms? (--units t=ms)")
+    amp = 0.5 * float(np.ptp(d))
+    if amp < SMALL_AMPLITUDE_MM:
+        notes.append(f"{where}: column '{names['d']}': displacement amplitude {amp:.3g} mm is very small; "
+                     f"is it in m? (--units d=m)")
+    return notes

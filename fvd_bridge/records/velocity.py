@@ -1,4 +1,10 @@
-"""Velocity and acceleration from sampled displacement by a smoothing differentiator."""
+"""Velocity and acceleration from sampled displacement by a Savitzky-Golay differentiator.
+
+The filter fits a polynomial of order ``polyorder`` to ``window`` samples
+around each point by least squares and returns its derivative there
+(Savitzky and Golay, Anal. Chem. 36 (1964) 1627; scipy.signal.savgol_filter,
+``mode='interp'`` at the ends). Its settings go into the record's provenance.
+"""
 
 from __future__ import annotations
 
@@ -7,37 +13,60 @@ from scipy.signal import savgol_filter
 
 from ..errors import InputError
 
+#: default window [samples] = dominant period / WINDOW_PER_PERIOD, clipped to this range
+WINDOW_PER_PERIOD = 25.0
+WINDOW_RANGE = (5, 101)
 
-def default_window(d: np.ndarray, dt: float) -> int:
-    """Savitzky-Golay window [samples]: about 1/25 of the dominant period, odd, 5..101."""
+
+def default_window(d: np.ndarray, dt: float, polyorder: int = 3) -> int:
+    """Savitzky-Golay window [samples]: about 1/25 of the dominant period of d, odd, 5..101,
+    and at least polyorder + 2."""
     from .cycles import dominant_period
 
     period = dominant_period(d, dt)
-    w = int(round(period / dt / 25.0)) if np.isfinite(period) else 11
-    w = min(max(w, 5), 101)
-    return w if w % 2 else w + 1
+    w = int(round(period / dt / WINDOW_PER_PERIOD)) if np.isfinite(period) else 11
+    w = min(max(w, WINDOW_RANGE[0], polyorder + 2), WINDOW_RANGE[1])
+    w = w if w % 2 else w + 1
+    return min(w, d.size if d.size % 2 else d.size - 1)
+
+
+def check_settings(window: int, polyorder: int, n: int) -> None:
+    """Refuse a window [samples] / order pair the filter cannot use on n samples."""
+    if polyorder < 1:
+        raise InputError(f"--sg-order {polyorder}: must be at least 1")
+    if window % 2 == 0 or window <= polyorder or window > n:
+        raise InputError(f"--sg-window {window}: must be odd, larger than --sg-order {polyorder} "
+                         f"and at most the number of samples ({n})")
 
 
 def differentiate(d: np.ndarray, dt: float, window: int | None = None,
                   polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, dict]:
     """Savitzky-Golay first and second derivatives of d [mm] on step dt [s].
 
-    Returns v [mm/s], a [mm/s^2] and the settings, which go into the record's
-    provenance so that a fit can be reproduced.
+    Returns v [mm/s], a [mm/s^2] and the settings (method, window [samples],
+    window_s [s], polyorder), which go into the record's provenance so that a
+    fit can be reproduced.
     """
-    if window is None:
-        window = default_window(d, dt)
-    if window % 2 == 0 or window <= polyorder or window > d.size:
-        raise InputError(f"--sg-window {window}: must be odd, larger than --sg-order {polyorder} "
-                         f"and at most the number of samples ({d.size})")
+    auto = window is None
+    if auto:
+        window = default_window(d, dt, polyorder)
+    check_settings(window, polyorder, d.size)
     v = savgol_filter(d, window, polyorder, deriv=1, delta=dt, mode="interp")
     a = savgol_filter(d, window, max(polyorder, 2), deriv=2, delta=dt, mode="interp")
-    return v, a, {"method": "savgol", "window": int(window), "polyorder": int(polyorder)}
+    return v, a, {"method": "savgol", "window": int(window), "window_s": float(window * dt),
+                  "polyorder": int(polyorder), "window_chosen": "auto" if auto else "user"}
 
 
 def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = None,
-                               polyorder: int = 3) -> np.ndarray:
-    """Acceleration [mm/s^2] from a measured velocity [mm/s]."""
-    w = window or 11
-    w = min(w if w % 2 else w + 1, v.size - (1 - v.size % 2))
-    return savgol_filter(v, w, min(polyorder, w - 1), deriv=1, delta=dt, mode="interp")
+                               polyorder: int = 3) -> tuple[np.ndarray, dict]:
+    """Acceleration [mm/s^2] from a measured velocity [mm/s] (Savitzky-Golay, 1st derivative).
+
+    Returns the acceleration and the settings used.
+    """
+    auto = window is None
+    if auto:
+        window = default_window(v, dt, polyorder)
+    check_settings(window, polyorder, v.size)
+    a = savgol_filter(v, window, polyorder, deriv=1, delta=dt, mode="interp")
+    return a, {"window": int(window), "window_s": float(window * dt), "polyorder": int(polyorder),
+               "window_chosen": "auto" if auto else "user"}
