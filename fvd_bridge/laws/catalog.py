@@ -87,7 +87,7 @@ LAWS = {
             Parameter("K", "kN/mm", (10.0, 50.0),
                       lambda s: (0.1 * s["F"] / s["d"], 1000.0 * s["F"] / s["d"]), "slip stiffness", log=True),
             Parameter("mu", "-", (0.1, 1.0), lambda s: (0.1, 1.0), "friction coefficient"),
-            Parameter("N", "kN", (250.0, 450.0), lambda s: (0.0, 20.0 * s["F"]), "normal force")),
+            Parameter("N", "kN", (250.0, 450.0), lambda s: (0.0, 2.0 * s["F"]), "normal force")),
            differential.law8,
            note="only the slip force mu N is identifiable; mu and N alone are not."),
     9: Law(9, "LuGre + viscous", "differential",

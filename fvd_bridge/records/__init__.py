@@ -1,6 +1,9 @@
 """Test records: reading, validation, velocity, summaries."""
 
+from .options import ReadOptions, parse_mapping
+from .readers import RecordWarning, read_record
 from .record import Record
-from .readers import ReadOptions, parse_mapping, read_record
+from .summary import format_summary, summarize
 
-__all__ = ["Record", "ReadOptions", "parse_mapping", "read_record"]
+__all__ = ["Record", "ReadOptions", "RecordWarning", "parse_mapping", "read_record",
+           "summarize", "format_summary"]

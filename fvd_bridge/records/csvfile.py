@@ -55,7 +55,7 @@ def read_csv(path: str, opts: ReadOptions) -> RawColumns:
                              f"the header {len(header)} (columns of unequal length)")
     time_given = "t" in data
     if not time_given:
-        data["t"], names["t"] = opts.dt * np.arange(rows.size), f"dt={opts.dt:g} s"
+        data["t"], names["t"] = opts.dt * np.arange(rows.size), f"<dt {opts.dt:g} s from --dt or sidecar>"
     return RawColumns(data, rows, names, time_given)
 
 

@@ -44,7 +44,8 @@ def count_cycles(d: np.ndarray) -> float:
     travel = np.abs(np.diff(d[r]))
     ref = float(np.median(travel)) if travel.size else float(np.ptp(d))
     ends = abs(d[r[0]] - d[0]) + abs(d[-1] - d[r[-1]])
-    return 0.5 * (travel.size + min(ends / ref, 2.0) if ref > 0 else travel.size)
+    partial = min(ends / ref, 2.0) if ref > 0 else 0.0
+    return 0.5 * (travel.size + partial)
 
 
 def force_noise(F: np.ndarray) -> float:

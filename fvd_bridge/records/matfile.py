@@ -39,7 +39,7 @@ def read_mat(path: str, opts: ReadOptions) -> RawColumns:
     if not time_given:
         dt, source = _time_step(path, mat, opts)
         n = next(iter(data.values())).size
-        data["t"], names["t"] = dt * np.arange(n), f"dt={dt:g} s ({source})"
+        data["t"], names["t"] = dt * np.arange(n), f"<dt {dt:g} s from {source}>"
     n = next(iter(data.values())).size
     return RawColumns(data, np.arange(1, n + 1), names, time_given)
 
@@ -110,7 +110,7 @@ def _from_vectors(path: str, mat: dict, variables: list[str], opts: ReadOptions)
 
 def _time_step(path: str, mat: dict, opts: ReadOptions) -> tuple[float, str]:
     if opts.dt is not None:
-        return float(opts.dt), "--dt"
+        return float(opts.dt), "--dt or sidecar"
     if TS_VARIABLE in mat:
         ts = np.asarray(mat[TS_VARIABLE])
         if ts.size == 1 and ts.dtype.kind in "biuf":

@@ -1,199 +1,100 @@
-"""Readers: CSV with header and MATLAB .mat files -> validated Record.
+"""read_record: a CSV or .mat file -> converted, validated, differentiated Record.
 
-Column mapping and units come from CLI options or a YAML sidecar
-``NAME.yaml`` next to the file with the same keys (columns, units, mat_var,
-dt); options given explicitly win over the sidecar.
+Steps: sidecar -> read columns (csvfile / matfile) -> finite -> units to
+kN, mm, s -> time checks -> constant/absurd checks -> uniform grid -> cycles
+-> velocity (measured, or Savitzky-Golay from d) -> provenance. Any fault is
+an InputError naming the file, row and column; notes (resampling, suspicious
+units) are kept in ``Record.warnings`` and issued as RecordWarning.
 """
 
 from __future__ import annotations
 
-import csv
 import os
 import warnings
-from dataclasses import dataclass, field
 
 import numpy as np
-import yaml
 
 from ..errors import InputError
 from ..units import CANONICAL, factor
 from . import validate
+from .csvfile import read_csv
+from .matfile import read_mat
+from .options import ReadOptions, parse_mapping, with_sidecar
+from .raw import RawColumns
 from .record import Record
-from .velocity import acceleration_from_velocity, differentiate
+from .velocity import acceleration_from_velocity, check_settings, differentiate
+
+__all__ = ["ReadOptions", "RecordWarning", "parse_mapping", "read_record"]
 
 
-@dataclass
-class ReadOptions:
-    """How to read a record. ``columns`` maps t/d/F/v to a header name (CSV),
-    a column index or a variable name (.mat); ``units`` maps t/d/F/v to a unit."""
-
-    columns: dict = field(default_factory=dict)
-    units: dict = field(default_factory=dict)
-    mat_var: str | None = None
-    dt: float | None = None
-    sg_window: int | None = None
-    sg_order: int = 3
-
-
-def parse_mapping(text: str | None, option: str) -> dict:
-    """'t=time,d=disp' -> {'t': 'time', 'd': 'disp'}; refuses keys other than t, d, F, v."""
-    if not text:
-        return {}
-    out = {}
-    for item in text.split(","):
-        key, sep, value = item.partition("=")
-        key, value = key.strip(), value.strip()
-        if not sep or not value:
-            raise InputError(f"{option} '{item}': expected KEY=VALUE (e.g. {option} t=time,d=disp,F=load)")
-        if key not in CANONICAL:
-            raise InputError(f"{option} '{item}': unknown key '{key}' (expected t, d, F or v)")
-        out[key] = value
-    return out
-
-
-def _with_sidecar(path: str, opts: ReadOptions) -> ReadOptions:
-    side = os.path.splitext(path)[0] + ".yaml"
-    if not os.path.exists(side):
-        return opts
-    try:
-        data = yaml.safe_load(open(side)) or {}
-    except yaml.YAMLError as exc:
-        raise InputError(f"{side}: not valid YAML ({str(exc).splitlines()[0]})") from None
-    if not isinstance(data, dict):
-        raise InputError(f"{side}: expected a mapping with keys columns, units, mat_var, dt")
-    unknown = set(data) - {"columns", "units", "mat_var", "dt"}
-    if unknown:
-        raise InputError(f"{side}: unknown key '{sorted(unknown)[0]}' (expected columns, units, mat_var, dt)")
-    return ReadOptions(
-        columns={**{k: str(v) for k, v in (data.get("columns") or {}).items()}, **opts.columns},
-        units={**(data.get("units") or {}), **opts.units},
-        mat_var=opts.mat_var or data.get("mat_var"),
-        dt=opts.dt if opts.dt is not None else data.get("dt"),
-        sg_window=opts.sg_window, sg_order=opts.sg_order)
+class RecordWarning(UserWarning):
+    """A record was read but something about it deserves a look."""
 
 
 def read_record(path: str, opts: ReadOptions | None = None, name: str | None = None) -> Record:
     """Read, convert to kN/mm/s, validate and differentiate one record file."""
-    opts = _with_sidecar(path, opts or ReadOptions())
+    path = os.fspath(path)
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file")
-    ext = os.path.splitext(path)[1].lower()
-    if ext == ".mat":
-        cols, row0, names = _read_mat(path, opts)
-    else:
-        cols, row0, names = _read_csv(path, opts)
-    return _assemble(path, cols, row0, names, opts, name)
+    if os.path.isdir(path):
+        raise InputError(f"{path}: is a directory, not a record file")
+    opts = _checked(path, with_sidecar(path, opts or ReadOptions()))
+    raw = read_mat(path, opts) if path.lower().endswith(".mat") else read_csv(path, opts)
+    rec = _assemble(path, raw, opts, name)
+    for note in rec.warnings:
+        warnings.warn(note, RecordWarning, stacklevel=2)
+    return rec
 
 
-def _read_csv(path: str, opts: ReadOptions):
-    wanted = {"t": "t", "d": "d", "F": "F", **opts.columns}
-    with open(path, newline="") as fh:
-        lines = [ln for ln in fh]
-    rows = list(csv.reader(ln for ln in lines))
-    # skip comment lines ('#') before the header
-    first = next((i for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")), None)
-    if first is None:
-        raise InputError(f"{path}: empty file (expected a header such as t,d,F)")
-    header = [h.strip() for h in rows[first]]
-    body = [(i + 1, r) for i, r in enumerate(rows) if i > first and r and any(c.strip() for c in r)]
-    if not body:
-        raise InputError(f"{path}: header but no data rows")
-    index, names = {}, {}
-    for key, col in wanted.items():
-        if col not in header:
-            if key == "v" and "v" not in opts.columns:
-                continue
-            raise InputError(f"{path}: column '{col}' (for {key}) not found; header has: {', '.join(header)}")
-        index[key], names[key] = header.index(col), col
-    if "v" not in index and "v" in header:
-        index["v"], names["v"] = header.index("v"), "v"
-    data = {k: np.empty(len(body)) for k in index}
-    for j, (row_no, r) in enumerate(body):
-        if len(r) != len(header):
-            raise InputError(f"{path}: row {row_no} has {len(r)} cells, the header has {len(header)} "
-                             f"(columns of unequal length)")
-        for key, c in index.items():
-            cell = r[c].strip()
-            try:
-                data[key][j] = float(cell)
-            except ValueError:
-                raise InputError(f"{path}: row {row_no}, column '{names[key]}': '{cell}' is not a number") from None
-    return data, body[0][0], names
+def _checked(path: str, opts: ReadOptions) -> ReadOptions:
+    """Refuse option values that no file could satisfy (the sidecar checked its own)."""
+    for key, unit in opts.units.items():
+        factor(key, unit, f"{path}: --units {key}={unit}: ")
+    if opts.dt is not None and not (np.isfinite(opts.dt) and opts.dt > 0):
+        raise InputError(f"--dt {opts.dt:g}: must be a positive time step in s")
+    check_settings(opts.sg_window, opts.sg_order, opts.sg_window or 0)
+    return opts
 
 
-def _read_mat(path: str, opts: ReadOptions):
-    import scipy.io
-
-    try:
-        mat = scipy.io.loadmat(path)
-    except Exception as exc:  # scipy raises several types for corrupt files
-        raise InputError(f"{path}: not a readable MATLAB file ({type(exc).__name__})") from None
-    variables = [k for k in mat if not k.startswith("__")]
-    wanted = opts.columns or {}
-    for key in ("d", "F"):
-        if key not in wanted:
-            raise InputError(f"{path}: say which column holds {key}, e.g. --mat-var x_F --columns d=0,F=2")
-    data, names = {}, {}
-    if opts.mat_var is not None:
-        if opts.mat_var not in mat:
-            raise InputError(f"{path}: variable '{opts.mat_var}' not found (has: {', '.join(variables)})")
-        arr = np.atleast_2d(np.asarray(mat[opts.mat_var], dtype=float))
-        if arr.shape[0] < arr.shape[1]:
-            arr = arr.T
-        for key, col in wanted.items():
-            try:
-                c = int(col)
-            except ValueError:
-                raise InputError(f"{path}: --columns {key}={col}: expected a column index of '{opts.mat_var}'") from None
-            if not 0 <= c < arr.shape[1]:
-                raise InputError(f"{path}: --columns {key}={c}: '{opts.mat_var}' has columns 0..{arr.shape[1] - 1}")
-            data[key], names[key] = arr[:, c].copy(), f"{opts.mat_var}[:,{c}]"
-    else:
-        for key, var in wanted.items():
-            if var not in mat:
-                raise InputError(f"{path}: variable '{var}' (for {key}) not found (has: {', '.join(variables)})")
-            data[key], names[key] = np.asarray(mat[var], dtype=float).ravel(), var
-        lengths = {names[k]: v.size for k, v in data.items()}
-        if len(set(lengths.values())) > 1:
-            raise InputError(f"{path}: columns of unequal length: "
-                             + ", ".join(f"{k} has {n}" for k, n in lengths.items()))
-    if "t" not in data:
-        dt = opts.dt
-        if dt is None and "Ts" in mat:
-            dt = float(np.asarray(mat["Ts"]).ravel()[0])
-        if dt is None:
-            raise InputError(f"{path}: no time column; give --dt SECONDS or --columns t=...")
-        n = next(iter(data.values())).size
-        data["t"], names["t"] = dt * np.arange(n), f"dt={dt:g}"
-    return data, 1, names
-
-
-def _assemble(path, cols, row0, names, opts: ReadOptions, name) -> Record:
-    units = {k: opts.units.get(k, CANONICAL[k]) for k in CANONICAL}
-    for key in opts.units:
-        factor(key, opts.units[key], f"{path}: --units: ")
-    for key, x in cols.items():
-        validate.check_finite(path, names[key], x, row0)
-    conv = {k: x * factor(k, units[k], f"{path}: ") for k, x in cols.items()}
+def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -> Record:
+    notes: list[str] = []
+    validate.check_length(path, raw.rows)
+    for key, x in raw.data.items():
+        validate.check_finite(path, raw.names[key], x, raw.rows)
+    units = {k: opts.units.get(k, CANONICAL[k]) for k in raw.data}
+    if not raw.time_given:
+        if "t" in opts.units and opts.units["t"] != "s":
+            notes.append(f"{path}: --units t={opts.units['t']} ignored: there is no time column "
+                         f"and the time step is in s")
+        units["t"] = "s"
+    factors = {k: factor(k, units[k], f"{path}: ") for k in raw.data}
+    conv = {k: x * factors[k] for k, x in raw.data.items()}
     t = conv.pop("t")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        if validate.check_time(path, names["t"], t, row0):
-            t, conv = validate.resample_uniform(t, conv, path)
+    off_grid = validate.check_time(path, raw.names["t"], t, raw.rows)
     for key in ("d", "F", "v"):
         if key in conv:
-            validate.check_signal(path, names[key], key, conv[key], CANONICAL[key])
-    n_cycles = validate.check_cycles(path, names["d"], conv["d"])
+            validate.check_signal(path, raw.names[key], key, conv[key], raw.rows,
+                                  units[key], factors[key], CANONICAL[key])
+    t, conv, note = validate.uniform_grid(t, conv, path, off_grid)
+    notes += [note] if note else []
+    n_cycles = validate.check_cycles(path, raw.names["d"], conv["d"])
     dt = float(t[1] - t[0])
+    v_d, a_d, settings = differentiate(conv["d"], dt, opts.sg_window, opts.sg_order)
     if "v" in conv:
+        validate.check_velocity(path, raw.names["v"], conv["v"], v_d)
         v = conv["v"]
-        a = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order)
-        vel = {"method": "measured", "column": names["v"]}
+        a, acc = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order)
+        vel = {"method": "measured", "column": raw.names["v"], "acceleration": dict(acc, method="savgol")}
     else:
-        v, a, vel = differentiate(conv["d"], dt, opts.sg_window, opts.sg_order)
-    prov = {"file": os.path.abspath(path), "columns": names, "units": units,
+        v, a, vel = v_d, a_d, settings
+    notes += validate.unit_notes(path, dt, conv["d"], raw.names)
+    prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
+            "columns": dict(raw.names), "units": units, "factors": factors,
+            "rows": [int(raw.rows[0]), int(raw.rows[-1])], "resampled": note is not None,
             "velocity": vel, "cycles": round(n_cycles, 2)}
-    rec = Record(t, conv["d"], conv["F"], v, a,
-                 name=name or os.path.splitext(os.path.basename(path))[0], provenance=prov)
-    rec.warnings = [str(w.message) for w in caught]
-    return rec
+    if opts.mat_var is not None and prov["format"] == "mat":
+        prov["mat_var"] = opts.mat_var
+    if opts.sidecar:
+        prov["sidecar"] = os.path.abspath(opts.sidecar)
+    return Record(t, conv["d"], conv["F"], v, a, name=name or os.path.splitext(os.path.basename(path))[0],
+                  provenance=prov, warnings=notes)

@@ -12,7 +12,9 @@ class Record:
     """One test of one device on a uniform time grid.
 
     t [s], d [mm], F [kN], v [mm/s], a [mm/s^2]; ``provenance`` says where
-    each column came from (file, column mapping, unit factors, differentiator).
+    each column came from (file, column mapping, source units and their
+    factors, velocity method and Savitzky-Golay settings); ``warnings`` holds
+    the notes the reader made (e.g. resampled time).
     """
 
     t: np.ndarray
@@ -24,6 +26,16 @@ class Record:
     provenance: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
 
+    #: units of the fields
+    UNITS = {"t": "s", "d": "mm", "F": "kN", "v": "mm/s", "a": "mm/s^2"}
+
+    def __post_init__(self):
+        for key in ("t", "d", "F", "v", "a"):
+            setattr(self, key, np.asarray(getattr(self, key), dtype=float))
+        sizes = {key: getattr(self, key).size for key in ("t", "d", "F", "v", "a")}
+        if len(set(sizes.values())) != 1 or self.t.size < 2:
+            raise ValueError(f"Record '{self.name}': fields need one common length >= 2, got {sizes}")
+
     @property
     def dt(self) -> float:
         """Sampling step [s]."""
@@ -31,6 +43,7 @@ class Record:
 
     @property
     def n(self) -> int:
+        """Number of samples."""
         return int(self.t.size)
 
     @property
@@ -47,7 +60,7 @@ class Record:
         }
 
     def slice(self, start: int, stop: int, name: str | None = None) -> "Record":
-        """Samples [start, stop) as a new record (provenance kept)."""
+        """Samples [start, stop) as a new record (provenance and warnings kept)."""
         s = np.s_[start:stop]
         return Record(self.t[s], self.d[s], self.F[s], self.v[s], self.a[s],
-                      name or self.name, dict(self.provenance, slice=[start, stop]))
+                      name or self.name, dict(self.provenance, slice=[start, stop]), list(self.warnings))

@@ -1,17 +1,16 @@
 """Velocity and acceleration from sampled displacement by a Savitzky-Golay differentiator.
 
 The filter fits a polynomial of order ``polyorder`` to ``window`` samples
-around each point by least squares and returns its derivative there
-(Savitzky and Golay, Anal. Chem. 36 (1964) 1627; scipy.signal.savgol_filter,
-``mode='interp'`` at the ends). Its settings go into the record's provenance.
+around each point by least squares and returns its derivative there (see
+savgol.py for the equation). Its settings go into the record's provenance.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..errors import InputError
+from .savgol import savgol_derivative
 
 #: default window [samples] = dominant period / WINDOW_PER_PERIOD, clipped to this range
 WINDOW_PER_PERIOD = 25.0
@@ -30,11 +29,12 @@ def default_window(d: np.ndarray, dt: float, polyorder: int = 3) -> int:
     return min(w, d.size if d.size % 2 else d.size - 1)
 
 
-def check_settings(window: int, polyorder: int, n: int) -> None:
-    """Refuse a window [samples] / order pair the filter cannot use on n samples."""
+def check_settings(window: int | None, polyorder: int, n: int) -> None:
+    """Refuse a window [samples] / order pair the filter cannot use on n samples
+    (window None: the order alone)."""
     if polyorder < 1:
         raise InputError(f"--sg-order {polyorder}: must be at least 1")
-    if window % 2 == 0 or window <= polyorder or window > n:
+    if window is not None and (window % 2 == 0 or window <= polyorder or window > n):
         raise InputError(f"--sg-window {window}: must be odd, larger than --sg-order {polyorder} "
                          f"and at most the number of samples ({n})")
 
@@ -51,8 +51,8 @@ def differentiate(d: np.ndarray, dt: float, window: int | None = None,
     if auto:
         window = default_window(d, dt, polyorder)
     check_settings(window, polyorder, d.size)
-    v = savgol_filter(d, window, polyorder, deriv=1, delta=dt, mode="interp")
-    a = savgol_filter(d, window, max(polyorder, 2), deriv=2, delta=dt, mode="interp")
+    v = savgol_derivative(d, window, polyorder, 1, dt)
+    a = savgol_derivative(d, window, max(polyorder, 2), 2, dt)
     return v, a, {"method": "savgol", "window": int(window), "window_s": float(window * dt),
                   "polyorder": int(polyorder), "window_chosen": "auto" if auto else "user"}
 
@@ -67,6 +67,6 @@ def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = No
     if auto:
         window = default_window(v, dt, polyorder)
     check_settings(window, polyorder, v.size)
-    a = savgol_filter(v, window, polyorder, deriv=1, delta=dt, mode="interp")
+    a = savgol_derivative(v, window, polyorder, 1, dt)
     return a, {"window": int(window), "window_s": float(window * dt), "polyorder": int(polyorder),
                "window_chosen": "auto" if auto else "user"}

@@ -1,0 +1,158 @@
+"""The seven built-in physical effects (see /PHYSICS.md of the project notes).
+
+Each effect's equation lives in the docstring of the function that computes
+it.  Bounds scale with the record: F = peak force [kN], v = peak velocity
+[mm/s], d = peak displacement [mm]; each range contains the value that
+switches the effect off.  Forces in kN, positive in tension.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..laws.base import Parameter
+from . import kernels
+from .base import Effect
+
+#: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
+FRICTION_V_F = 1.0
+
+
+def _col(P, j):
+    return P[:, j:j + 1]
+
+
+# ------------------------------------------------------------------ input
+def gap_motion(P, d, v, dt):
+    """Pin clearance g [mm]: the law sees the play (backlash) operator of d
+    (d, v: (pop or 1, n_t)),
+
+      x(t) = play(d; g/2): x stays while |d - x| < g/2, then follows d at
+      distance g/2;  xv = v while the pin pushes (|d - x| = g/2 and v moving
+      outward), else 0.
+
+    It starts centred (x = d at t = 0).  A viscous law then carries no force
+    while the pin crosses the clearance after each reversal: a dead band."""
+    return kernels.play_population(np.ascontiguousarray(np.atleast_2d(d), dtype=float),
+                                   np.ascontiguousarray(np.atleast_2d(v), dtype=float),
+                                   np.ascontiguousarray(P[:, 0], dtype=float))
+
+
+# ------------------------------------------------------------------ output
+def asymmetry_force(P, F, x, xv, dt):
+    """Tension/compression asymmetry r [-]: F (1 + r) where F > 0 (tension),
+    F (1 - r) where F < 0 (compression)."""
+    r = _col(P, 0)
+    return F * np.where(F > 0.0, 1.0 + r, 1.0 - r)
+
+
+def thermal_force(P, F, x, xv, dt):
+    """Heating of the fluid, theta [1/MJ]: F exp(-theta E(t)),
+
+      E(t) = 1e-6 * integral_0^t F xv dt  [MJ],
+
+    the energy the law has dissipated so far (its unsoftened force F [kN]
+    times its own velocity xv [mm/s], trapezoidal rule; 1 kN mm = 1 J)."""
+    xv = np.ascontiguousarray(np.atleast_2d(xv), dtype=float)
+    return kernels.thermal_population(np.ascontiguousarray(F, dtype=float), xv, float(dt),
+                                      np.ascontiguousarray(P[:, 0], dtype=float))
+
+
+# ---------------------------------------------------------------- parallel
+def friction_force(P, t, d, v, a):
+    """Seal friction Ff [kN]: + Ff tanh(v / v_f), v_f = FRICTION_V_F = 1 mm/s
+    (Coulomb friction smoothed over 1 mm/s), v the record's velocity."""
+    return _col(P, 0) * np.tanh(np.asarray(v) / FRICTION_V_F)[None, :]
+
+
+def parallel_force(P, t, d, v, a):
+    """Accumulator (gas spring) and preload: + Kp d + F0, Kp [kN/mm], F0 [kN]."""
+    return _col(P, 0) * np.asarray(d)[None, :] + _col(P, 1)
+
+
+def inertia_force(P, t, d, v, a):
+    """Moving mass m [kg]: + m a 1e-6 [kN], a [mm/s^2] the record's
+    acceleration (1 kg mm/s^2 = 1e-6 kN)."""
+    return _col(P, 0) * 1e-6 * np.asarray(a)[None, :]
+
+
+def _stiff(s):
+    return s["F"] / s["d"]
+
+
+def _accel(s):  # peak acceleration of a sinusoid with these peaks: v^2 / d [mm/s^2]
+    return s["v"] ** 2 / s["d"]
+
+
+def _cycle_energy(s):  # dissipated energy of one full cycle [MJ], about pi F d
+    return math.pi * s["F"] * s["d"] * 1e-6
+
+
+BUILTIN = (
+    Effect(
+        name="gap", stage="input", order=10, function=gap_motion, none=(0.0,),
+        parameters=(Parameter("g", "mm", (0.0, 5.0), lambda s: (0.0, 0.2 * s["d"]),
+                              "pin clearance (total play)"),),
+        equation="law(x, xv), x = play(d; g/2): x moves only when |d - x| reaches g/2",
+        summary="connection gap: pins and clevises have play, the force drops to zero while "
+                "the pin crosses its clearance",
+        symptom="force stays near zero just after each reversal (a plateau in the loop)",
+        cause="the connection has play"),
+    Effect(
+        name="series_stiffness", stage="series", order=20, function=None, none=(math.inf,),
+        parameters=(Parameter("Ks", "kN/mm", (10.0, 1000.0),
+                              lambda s: (0.3 * _stiff(s), 3000.0 * _stiff(s)),
+                              "spring in series with the law (oil, seals, rod, frame); "
+                              "the upper bound is rigid", log=True),),
+        equation="F = Ks (y - x) = law(x, dx/dt), y = d",
+        summary="fluid compressibility / series flexibility: a spring in series with the orifice "
+                "(Maxwell model)",
+        symptom="force lags the velocity at reversals (tilted loop, force not zero at zero velocity)",
+        cause="the fluid is compressible and the connections flex"),
+    Effect(
+        name="asymmetry", stage="output", order=40, function=asymmetry_force, none=(0.0,),
+        parameters=(Parameter("r", "-", (-0.5, 0.5), lambda s: (-0.5, 0.5),
+                              "tension/compression force ratio offset"),),
+        equation="F_law (1 + r sign(F_law))",
+        summary="tension/compression asymmetry: rod-side and cap-side areas or valves differ",
+        symptom="peak forces differ in tension and compression",
+        cause="the two piston sides or valves differ"),
+    Effect(
+        name="thermal_softening", stage="output", order=50, function=thermal_force, none=(0.0,),
+        parameters=(Parameter("theta", "1/MJ", (0.0, 10.0), lambda s: (0.0, 1.0 / _cycle_energy(s)),
+                              "force loss per MJ dissipated", log=True),),
+        equation="F_law exp(-theta E), E = 1e-6 integral F_law xv dt [MJ]",
+        summary="heating: dissipated energy warms the oil and the force falls cycle after cycle",
+        symptom="force falls from cycle to cycle (residual grows with time and dissipated energy)",
+        cause="the oil heats up and its viscosity drops"),
+    Effect(
+        name="friction", stage="parallel", order=60, function=friction_force, none=(0.0,),
+        parameters=(Parameter("Ff", "kN", (0.0, 30.0), lambda s: (0.0, 0.3 * s["F"]),
+                              "seal friction force"),),
+        equation=f"+ Ff tanh(v / v_f), v_f = {FRICTION_V_F:g} mm/s",
+        summary="seal friction: a nearly constant force opposing motion, dominant at low velocity",
+        symptom="loops are too square at low velocity (a constant force the law misses)",
+        cause="the seals rub"),
+    Effect(
+        name="parallel_stiffness", stage="parallel", order=70, function=parallel_force, none=(0.0, 0.0),
+        parameters=(Parameter("Kp", "kN/mm", (-5.0, 10.0), lambda s: (-0.5 * _stiff(s), _stiff(s)),
+                              "parallel stiffness (accumulator, gas spring)"),
+                    Parameter("F0", "kN", (-30.0, 30.0), lambda s: (-0.2 * s["F"], 0.2 * s["F"]),
+                              "preload")),
+        equation="+ Kp d + F0",
+        summary="accumulator / gas spring and preload: a static stiffness and an offset force",
+        symptom="residual grows with displacement and has an offset",
+        cause="pressurised fluid acts as a spring with a preload"),
+    Effect(
+        name="inertia", stage="parallel", order=80, function=inertia_force, none=(0.0,),
+        parameters=(Parameter("m", "kg", (0.0, 1e4), lambda s: (0.0, 0.5 * s["F"] / _accel(s) * 1e6),
+                              "moving mass (fluid and piston)"),),
+        equation="+ m a 1e-6",
+        summary="inertia: moving fluid and piston mass, a force proportional to acceleration",
+        symptom="residual follows the acceleration (grows with frequency, peaks at the reversals)",
+        cause="fluid and piston mass are accelerated"),
+)
+
+EFFECTS = {e.name: e for e in BUILTIN}

@@ -1,0 +1,141 @@
+"""User-defined effects from a Python file (``--plugin path.py``).
+
+A plugin file defines ``EFFECTS``, a list of fvd_bridge.effects.Effect
+(see examples/custom_effect.py).  Effects of stage 'input', 'output' or
+'parallel' are allowed (the series stage needs the law in step form and is
+built in only).  Each is checked on a small synthetic record when loaded, so
+a broken plugin is refused with one line naming the file, never a traceback
+in the middle of a fit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import importlib.util
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+from ..errors import InputError
+from .base import STAGES, Effect
+from .catalog import EFFECTS as BUILTIN
+
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+def _module_name(path: str) -> str:
+    digest = hashlib.sha1(os.path.abspath(path).encode()).hexdigest()[:10]
+    return f"fvd_bridge_plugin_{digest}"
+
+
+def load_module(path: str):
+    """Import a plugin file; any failure -> InputError naming the file."""
+    if not os.path.isfile(path):
+        raise InputError(f"--plugin {path}: no such file")
+    name = _module_name(path)
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise InputError(f"--plugin {path}: not a Python file")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # pickling and dataclasses need it registered
+    try:
+        spec.loader.exec_module(module)
+    except SyntaxError as exc:
+        sys.modules.pop(name, None)
+        raise InputError(f"--plugin {path}: line {exc.lineno}: syntax error ({exc.msg})") from None
+    except Exception as exc:  # a user's file may raise anything
+        sys.modules.pop(name, None)
+        raise InputError(f"--plugin {path}: failed to load ({type(exc).__name__}: {exc})") from None
+    return module
+
+
+def _probe_record():
+    """A 2-cycle, 1 Hz sinusoid of 20 mm with a viscous 100 kN force (for checks)."""
+    from ..records.record import Record
+
+    t = np.arange(201) * 0.01
+    w = 2.0 * math.pi
+    d, v, a = 20.0 * np.sin(w * t), 20.0 * w * np.cos(w * t), -20.0 * w * w * np.sin(w * t)
+    return Record(t, d, 100.0 * v / v.max(), v, a, name="plugin-probe")
+
+
+def check_effect(e, where: str) -> Effect:
+    """Refuse a malformed effect with one line; returns it."""
+    if not isinstance(e, Effect):
+        raise InputError(f"{where}: EFFECTS must hold fvd_bridge.effects.Effect objects, "
+                         f"got {type(e).__name__}")
+    label = f"{where}: effect '{e.name}'"
+    if not isinstance(e.name, str) or not _NAME.match(e.name):
+        raise InputError(f"{where}: effect name '{e.name}' must be an identifier (letters, digits, _)")
+    if e.stage not in STAGES:
+        raise InputError(f"{label}: stage '{e.stage}' (expected input, output or parallel)")
+    if e.stage == "series":
+        raise InputError(f"{label}: the series stage is built in only (use series_stiffness)")
+    if not callable(e.function):
+        raise InputError(f"{label}: function is not callable")
+    if not e.parameters:
+        raise InputError(f"{label}: no parameters")
+    if len(e.none) != len(e.parameters):
+        raise InputError(f"{label}: 'none' has {len(e.none)} values for {len(e.parameters)} parameters")
+    names = [p.name for p in e.parameters]
+    if len(set(names)) != len(names):
+        raise InputError(f"{label}: parameter names repeat ({', '.join(names)})")
+    rec = _probe_record()
+    try:
+        b = e.bounds(rec.scales())
+    except Exception as exc:
+        raise InputError(f"{label}: bounds failed ({type(exc).__name__}: {exc})") from None
+    if b.shape != (len(names), 2) or not np.all(np.isfinite(b)) or np.any(b[:, 0] > b[:, 1]):
+        raise InputError(f"{label}: bounds must be finite (low, high) pairs with low <= high")
+    none = np.clip(np.asarray(e.none, dtype=float), b[:, 0], b[:, 1])
+    if not np.allclose(none, np.asarray(e.none, dtype=float), equal_nan=False) and np.all(np.isfinite(e.none)):
+        raise InputError(f"{label}: the 'no effect' values {tuple(e.none)} lie outside the bounds "
+                         f"(models must be nested)")
+    from ..laws import get_law
+    from ..model import Model
+
+    model = Model(get_law(2), (e,))
+    P = np.vstack([np.r_[45.0, 0.3, none], np.r_[45.0, 0.3, b.mean(axis=1)]])
+    try:
+        F = model.force(rec, P)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    except Exception as exc:
+        raise InputError(f"{label}: failed on a test record ({type(exc).__name__}: {exc})") from None
+    if F.shape != (2, rec.n) or not np.all(np.isfinite(F)):
+        raise InputError(f"{label}: returned non-finite forces on a test record")
+    return e
+
+
+def load_plugins(paths) -> dict:
+    """Effects of the plugin files: {name: Effect}; clashes are refused."""
+    if isinstance(paths, str):
+        paths = [paths]
+    out: dict = {}
+    for path in paths:
+        module = load_module(path)
+        effects = getattr(module, "EFFECTS", None)
+        if effects is None:
+            raise InputError(f"--plugin {path}: defines no EFFECTS list (see examples/custom_effect.py)")
+        if isinstance(effects, Effect):
+            effects = [effects]
+        try:
+            effects = list(effects)
+        except TypeError:
+            raise InputError(f"--plugin {path}: EFFECTS must be a list of Effect objects") from None
+        if not effects:
+            raise InputError(f"--plugin {path}: EFFECTS is empty")
+        for e in effects:
+            if isinstance(e, Effect):
+                e = dataclasses.replace(e, source=os.path.basename(path))
+            check_effect(e, path)
+            if e.name in BUILTIN:
+                raise InputError(f"{path}: effect '{e.name}' clashes with the built-in effect of that name")
+            if e.name in out:
+                raise InputError(f"{path}: effect '{e.name}' is defined twice")
+            out[e.name] = e
+    return out

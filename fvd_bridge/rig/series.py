@@ -1,0 +1,127 @@
+"""Write a series of virtual devices as lab-like CSV records plus ``truth.yaml``."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import yaml
+
+from .. import __version__
+from ..errors import InputError
+from ..records.writers import write_csv
+from .device import PARAMETERS, Device
+from .protocols import Protocol
+from .simulate import Noise, simulate
+
+TRUTH_FILE = "truth.yaml"
+SCHEMA_VERSION = 1
+
+
+def noise_seeds(seed, n: int) -> list:
+    """Independent noise seeds of n devices, derived from one series seed."""
+    if seed is None:
+        return [None] * n
+    return [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(int(seed)).spawn(n)]
+
+
+def simulate_series(devices, protocol: Protocol, noise: Noise | None = None, seed=0,
+                    substeps: int | None = None) -> list:
+    """One Record per device; device i gets noise seed noise_seeds(seed, n)[i]."""
+    seeds = noise_seeds(seed, len(devices))
+    return [simulate(dev, protocol, noise, s, substeps=substeps) for dev, s in zip(devices, seeds)]
+
+
+def truth_dict(devices, protocol: Protocol, noise: Noise, seed, files, scatter=None, extra=None) -> dict:
+    """The content of truth.yaml (schema_version 1)."""
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "generator": f"fvd_bridge {__version__} rig",
+        "units": {k: u for k, (u, _) in PARAMETERS.items()},
+        "meaning": {k: m for k, (_, m) in PARAMETERS.items()},
+        "sign": "positive force = tension; d = imposed displacement [mm], t [s], F [kN]",
+        "force": "F = F_series(orifice x (1 +- asymmetry) x exp(-heating E) + friction tanh(v_o/v_friction), "
+                 "through Ks) + Kp y + preload + mass a_y 1e-6 + noise; y = play(d, gap/2)",
+        "protocol": protocol.describe(),
+        "noise": {**noise.describe(), "seed": None if seed is None else int(seed),
+                  "per_device_seeds": noise_seeds(seed, len(devices))},
+        "scatter": dict(scatter or {}),
+        **(extra or {}),
+        "devices": [{"name": dev.name, "file": f, "parameters": dev.parameters()}
+                    for dev, f in zip(devices, files)],
+    }
+
+
+def _atomic_yaml(data: dict, path: str) -> None:
+    tmp = f"{path}.part"
+    with open(tmp, "w") as fh:
+        yaml.safe_dump(data, fh, sort_keys=False, default_flow_style=None)
+    os.replace(tmp, path)
+
+
+def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None = None, seed=0,
+                 with_velocity: bool = False, scatter: dict | None = None,
+                 substeps: int | None = None, extra: dict | None = None) -> list[str]:
+    """Simulate every device, then write DEVICE.csv (t,d,F[,v]; kN, mm, s) for
+    each and truth.yaml with all true parameters, protocol and noise.
+
+    All records are simulated before anything is written, each file is
+    written to a temporary name and renamed, and on an error the files this
+    call wrote are removed: no partial output. Returns the written paths
+    (records first, truth.yaml last).
+    """
+    noise = noise or Noise()
+    devices = list(devices)
+    if not devices:
+        raise InputError("rig: no devices to simulate")
+    names = [d.name for d in devices]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise InputError(f"rig: two devices named '{dup[0]}'")
+    records = simulate_series(devices, protocol, noise, seed, substeps)
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise InputError(f"--out {out_dir}: exists and is not a directory")
+    os.makedirs(out_dir, exist_ok=True)
+    files = [f"{dev.name}.csv" for dev in devices]
+    written = []
+    try:
+        for rec, dev, f in zip(records, devices, files):
+            path = os.path.join(out_dir, f)
+            comment = (f"fvd_bridge rig: device {dev.name}, protocol {protocol.name}; "
+                       f"units t [s], d [mm], F [kN]{', v [mm/s]' if with_velocity else ''}; "
+                       f"true parameters in {TRUTH_FILE}")
+            write_csv(rec, path, with_velocity=with_velocity, comment=comment)
+            written.append(path)
+        truth = os.path.join(out_dir, TRUTH_FILE)
+        _atomic_yaml(truth_dict(devices, protocol, noise, seed, files, scatter, extra), truth)
+        written.append(truth)
+    except BaseException:
+        for p in written + [p + ".part" for p in written]:
+            if os.path.exists(p):
+                os.remove(p)
+        for f in files + [TRUTH_FILE]:
+            part = os.path.join(out_dir, f + ".part")
+            if os.path.exists(part):
+                os.remove(part)
+        raise
+    return written
+
+
+def read_truth(path: str) -> dict:
+    """Load truth.yaml (a file or its directory): the dict as written, with
+    'devices' turned into Device objects and 'files' their full paths."""
+    if os.path.isdir(path):
+        path = os.path.join(path, TRUTH_FILE)
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file")
+    try:
+        data = yaml.safe_load(open(path)) or {}
+    except yaml.YAMLError as exc:
+        raise InputError(f"{path}: not valid YAML ({str(exc).splitlines()[0]})") from None
+    if not isinstance(data, dict) or data.get("schema_version") != SCHEMA_VERSION:
+        raise InputError(f"{path}: not a rig truth file (schema_version {SCHEMA_VERSION} expected)")
+    entries = data.get("devices") or []
+    base = os.path.dirname(os.path.abspath(path))
+    data["devices"] = [Device.from_dict({"name": e["name"], **e["parameters"]}, where=path) for e in entries]
+    data["files"] = [os.path.join(base, e["file"]) for e in entries]
+    return data
