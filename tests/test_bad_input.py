@@ -139,7 +139,7 @@ def case_sidecar_unknown_key(f):
 def case_sidecar_bad_unit(f):
     write(f, "side3.yaml", "columns: {t: time, d: disp}\nunits:\n  F: Nm\n")
     path = write(f, "side3.csv", csv_text("time,disp,F", [S["t"], S["d"], S["F"]]))
-    return path, [], ["side3.yaml", "row 2", "unknown unit 'Nm'"]
+    return path, [], ["side3.yaml", "row 3", "unknown unit 'Nm'"]
 
 
 def _mat(f, name="rig.mat"):
@@ -197,6 +197,21 @@ def case_bad_sg_window(f):
     return path, ["--sg-window", "4"], ["--sg-window 4", "odd"]
 
 
+def case_sg_window_too_long(f):
+    path = write(f, "sg_long.csv", csv_text("t,d,F", [S["t"], S["d"], S["F"]]))
+    return path, ["--sg-window", "401"], ["--sg-window 401", f"{N} samples"]
+
+
+def case_plot_folder_missing(f):
+    path = write(f, "plot.csv", csv_text("t,d,F", [S["t"], S["d"], S["F"]]))
+    return path, ["--plot", str(f / "nowhere" / "x.png")], ["x.png", "does not exist"]
+
+
+def case_plot_unknown_format(f):
+    path = write(f, "plot2.csv", csv_text("t,d,F", [S["t"], S["d"], S["F"]]))
+    return path, ["--plot", str(f / "x.foo")], ["x.foo", "unknown image format"]
+
+
 CASES = {name[5:]: fn for name, fn in sorted(globals().items()) if name.startswith("case_")}
 #: the issue's list, run as real subprocesses; the rest run in-process
 SUBPROCESS = {"missing_column", "non_numeric", "nan", "time_not_increasing", "irregular_time",
@@ -227,8 +242,8 @@ def check(case, path, expected, rc, stderr):
     assert "Traceback" not in stderr
     assert err and "\n" not in err, err
     assert err.startswith("fvd-bridge: ")
-    if case != "bad_sg_window":
-        named = expected[0] if "sidecar" in case else Path(path).name
+    if case != "bad_sg_window":  # the others name a file: the record, its sidecar or the figure
+        named = expected[0] if "sidecar" in case or "plot" in case else Path(path).name
         assert named in err, err
     for fragment in expected:
         assert fragment in err, err

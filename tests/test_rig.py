@@ -100,17 +100,20 @@ def test_energy_per_cycle_pure_orifice(prot):
     for (a, b), w in zip(steady, energies[1:-1]):
         assert w == pytest.approx(loop_area(tr["d"][a:b + 1], tr["F"][a:b + 1]), rel=2e-4)
         assert w == pytest.approx(closed, rel=2e-4)
-        assert 1e6 * (tr["E"][b] - tr["E"][a]) == pytest.approx(closed, rel=1e-6)  # the rig's own E
+        # the rig's own orifice energy (sample maxima are within dt/2 of the reversals)
+        assert 1e6 * (tr["E"][b] - tr["E"][a]) == pytest.approx(closed, rel=2e-5)
 
 
 # --------------------------------------------------------------- Maxwell part
 
-def test_series_stiffness_lag_and_reversal_force(prot):
+def test_series_stiffness_lag_and_reversal_force():
+    dt = 2 * math.pi * 40.0 / 500.0 / 256
+    prot = paper(dt=dt, rest=25 * dt)  # samples on the reversals
     rigid = trace(Device(C=C0, alpha=A0), prot)
     soft = trace(Device(C=C0, alpha=A0, Ks=100.0), prot)
     steady = cycle_bounds(soft["d"])[2:-2]
     for a, _ in steady:  # a = a displacement maximum (reversal)
-        assert abs(rigid["F"][a]) < 0.1 * 292
+        assert abs(rigid["F"][a]) < 0.01 * 292
         assert soft["F"][a] > 0.25 * 292  # force still in tension at the reversal
     # the force lags: its zero crossing comes after the velocity's
     a, b = steady[0]
@@ -120,9 +123,13 @@ def test_series_stiffness_lag_and_reversal_force(prot):
     # loop energy = orifice energy (no friction, no heating; the spring stores none per cycle)
     for (a, b), w in zip(steady, energy_per_cycle(soft["d"], soft["F"])[2:-2]):
         assert w == pytest.approx(1e6 * (soft["E"][b] - soft["E"][a]), rel=1e-3)
-    # a very stiff spring is nearly rigid
-    stiff = trace(Device(C=C0, alpha=A0, Ks=1e5), prot)
-    assert np.max(np.abs(stiff["F"] - rigid["F"])) < 0.01 * 292
+    # a very stiff spring is nearly rigid while moving, except right at the
+    # reversals, where |v|^alpha is too steep for any finite Ks to follow (at
+    # rest the force relaxes only as dS/dt ~ -Ks (S/C)^(1/alpha))
+    p3 = paper(cycles=3)
+    rigid, stiff = trace(Device(C=C0, alpha=A0), p3), trace(Device(C=C0, alpha=A0, Ks=1e5), p3)
+    moving = np.abs(rigid["v"]) > 5.0
+    assert np.mean(np.abs(stiff["F"] - rigid["F"])[moving]) < 1e-3 * 292
 
 
 def test_linear_maxwell_matches_closed_form():

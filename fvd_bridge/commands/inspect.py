@@ -23,6 +23,10 @@ def add_parser(sub):
 
 def run(args) -> int:
     opts = read_options(args)
+    if args.plot:
+        from ..plots.record import check_target
+
+        check_target(args.plot)  # before any output: a bad path is one line, exit 2
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RecordWarning)  # listed in the summary instead
         rec = read_record(args.record, opts)

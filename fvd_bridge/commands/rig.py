@@ -132,8 +132,11 @@ def run(args) -> int:
         force = 0.0 if args.noise is None else _float("noise", args.noise)
         disp = 0.0 if args.disp_noise is None else _float("disp-noise", args.disp_noise)
     noise = Noise(force, disp)
-    paths = write_series(args.out, devices, protocol, noise, seed, with_velocity=args.with_velocity,
-                         scatter=scatter, extra={"demo": bool(args.demo)})
+    try:
+        paths = write_series(args.out, devices, protocol, noise, seed, with_velocity=args.with_velocity,
+                             scatter=scatter, extra={"demo": bool(args.demo)})
+    except OSError as exc:
+        raise InputError(f"--out {args.out}: cannot write ({exc.strerror or exc})") from None
     print(f"rig: {len(devices)} device(s), protocol {protocol.name} ({protocol.n} samples, dt {protocol.dt:g} s), "
           f"noise {noise.force:g} kN / {noise.displacement:g} mm, seed {seed}")
     for path in paths:

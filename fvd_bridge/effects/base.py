@@ -5,26 +5,34 @@ the parameter values that switch it off (``none``: the model with the effect
 switched off is the model without it, so models are nested), an equation, and
 a vectorized function for its *stage* in the composition::
 
-    d, v --[input]--> x, xv --[series]--> law(x, xv) --[output]--> F_law
-    F = F_law + sum of [parallel] terms
+    d, v, a --[input]--> x, xv, xa          the damper body's motion
+    x, xv --[series]--> x_o, u              the law's own motion (x_o = x without a series spring)
+    F_law = law(x_o, u) --[output]--> F_el  the internal element's force
+    F = F_el + sum of [parallel] terms(x, xv, xa)
 
-==========  =======================================  ==============================
+==========  =======================================  ===================================
 stage       function signature (P: (pop, n_par))     returns
-==========  =======================================  ==============================
-input       fn(P, d, v, dt)                          (x, xv), each (pop, n_t): what
-                                                     the law sees instead of d, v
-output      fn(P, F, x, xv, dt)                      F (pop, n_t): the law's force
-                                                     transformed (F is (pop, n_t))
-parallel    fn(P, t, d, v, a)                        force (pop, n_t) or
-                                                     broadcastable, added to F
+==========  =======================================  ===================================
+input       fn(P, d, v, a, dt)                       (x, xv, xa), each (pop, n_t): the
+                                                     motion the damper body sees
+output      fn(P, F, x, xv, dt)                      F (pop, n_t): the law's force F
+                                                     (pop, n_t) transformed; x, xv the
+                                                     law's displacement and velocity
+parallel    fn(P, t, x, xv, xa)                      a force (pop, n_t) or broadcastable,
+                                                     added to the damper's force
 series      (built in: series_stiffness only; it needs the law in step form)
-==========  =======================================  ==============================
+==========  =======================================  ===================================
 
 d [mm], v [mm/s], a [mm/s^2], t [s] are the record's (n_t,) arrays, dt [s]
-its step; x, xv are (pop, n_t) or (1, n_t).  Force is in kN, positive in
+its step; x, xv, xa are (pop, n_t) or (1, n_t).  Force is in kN, positive in
 tension.  Within a stage effects apply in increasing ``order`` (built-ins:
 gap 10, series_stiffness 20, asymmetry 40, thermal_softening 50, friction 60,
 parallel_stiffness 70, inertia 80; a user effect defaults to 100).
+
+With a series spring the built-in asymmetry, thermal_softening and friction
+belong to the internal element that the spring carries (``series_slot``
+names the argument of the series kernel that takes them); a user effect is
+then applied outside the spring.
 """
 
 from __future__ import annotations
@@ -63,6 +71,7 @@ class Effect:
     cause: str = "a missing physical effect"
     order: int = 100
     source: str = "built-in"
+    series_slot: str = ""
 
     @property
     def names(self) -> list[str]:

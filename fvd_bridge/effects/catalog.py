@@ -17,27 +17,29 @@ from . import kernels
 from .base import Effect
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
-FRICTION_V_F = 1.0
+FRICTION_V_F = kernels.FRICTION_V_F
 
 
 def _col(P, j):
     return P[:, j:j + 1]
 
 
-# ------------------------------------------------------------------ input
-def gap_motion(P, d, v, dt):
-    """Pin clearance g [mm]: the law sees the play (backlash) operator of d
-    (d, v: (pop or 1, n_t)),
+def _rows(x):
+    return np.ascontiguousarray(np.atleast_2d(x), dtype=float)
 
-      x(t) = play(d; g/2): x stays while |d - x| < g/2, then follows d at
-      distance g/2;  xv = v while the pin pushes (|d - x| = g/2 and v moving
-      outward), else 0.
+
+# ------------------------------------------------------------------ input
+def gap_motion(P, d, v, a, dt):
+    """Pin clearance g [mm]: the damper body sees the play (backlash) operator
+    of the imposed displacement d,
+
+      x = play(d; g/2): x stays while |d - x| < g/2, then follows d at
+      distance g/2;  xv = v and xa = a while the pin pushes (in contact),
+      0 while it crosses the clearance (free play).
 
     It starts centred (x = d at t = 0).  A viscous law then carries no force
     while the pin crosses the clearance after each reversal: a dead band."""
-    return kernels.play_population(np.ascontiguousarray(np.atleast_2d(d), dtype=float),
-                                   np.ascontiguousarray(np.atleast_2d(v), dtype=float),
-                                   np.ascontiguousarray(P[:, 0], dtype=float))
+    return kernels.play_population(_rows(d), _rows(v), _rows(a), np.ascontiguousarray(P[:, 0], dtype=float))
 
 
 # ------------------------------------------------------------------ output
@@ -49,33 +51,36 @@ def asymmetry_force(P, F, x, xv, dt):
 
 
 def thermal_force(P, F, x, xv, dt):
-    """Heating of the fluid, theta [1/MJ]: F exp(-theta E(t)),
+    """Heating of the fluid, theta [1/MJ]: F exp(-theta E(t)) with
 
-      E(t) = 1e-6 * integral_0^t F xv dt  [MJ],
+      E(t) = 1e-6 * integral_0^t F_out xv dt  [MJ],
 
-    the energy the law has dissipated so far (its unsoftened force F [kN]
-    times its own velocity xv [mm/s], trapezoidal rule; 1 kN mm = 1 J)."""
-    xv = np.ascontiguousarray(np.atleast_2d(xv), dtype=float)
-    return kernels.thermal_population(np.ascontiguousarray(F, dtype=float), xv, float(dt),
+    the energy the law has dissipated so far (its softened force F_out [kN]
+    times its velocity xv [mm/s]; 1 kN mm = 1 J).  Computed in the closed
+    form exp(theta E) = 1 + theta W0, W0 = 1e-6 integral F xv dt with the
+    unsoftened F (kernels.thermal_population, trapezoidal rule)."""
+    return kernels.thermal_population(np.ascontiguousarray(F, dtype=float), _rows(xv), float(dt),
                                       np.ascontiguousarray(P[:, 0], dtype=float))
 
 
 # ---------------------------------------------------------------- parallel
-def friction_force(P, t, d, v, a):
-    """Seal friction Ff [kN]: + Ff tanh(v / v_f), v_f = FRICTION_V_F = 1 mm/s
-    (Coulomb friction smoothed over 1 mm/s), v the record's velocity."""
-    return _col(P, 0) * np.tanh(np.asarray(v) / FRICTION_V_F)[None, :]
+def friction_force(P, t, x, xv, xa):
+    """Seal friction Ff [kN]: + Ff tanh(u / v_f), v_f = FRICTION_V_F = 1 mm/s
+    (Coulomb friction smoothed over 1 mm/s), u the law's velocity (the
+    damper body's velocity xv without a series spring)."""
+    return _col(P, 0) * np.tanh(np.asarray(xv) / FRICTION_V_F)
 
 
-def parallel_force(P, t, d, v, a):
-    """Accumulator (gas spring) and preload: + Kp d + F0, Kp [kN/mm], F0 [kN]."""
-    return _col(P, 0) * np.asarray(d)[None, :] + _col(P, 1)
+def parallel_force(P, t, x, xv, xa):
+    """Accumulator (gas spring) and preload: + Kp x + F0, Kp [kN/mm], F0 [kN],
+    x [mm] the damper body's displacement (d without a gap)."""
+    return _col(P, 0) * np.asarray(x) + _col(P, 1)
 
 
-def inertia_force(P, t, d, v, a):
-    """Moving mass m [kg]: + m a 1e-6 [kN], a [mm/s^2] the record's
-    acceleration (1 kg mm/s^2 = 1e-6 kN)."""
-    return _col(P, 0) * 1e-6 * np.asarray(a)[None, :]
+def inertia_force(P, t, x, xv, xa):
+    """Moving mass m [kg]: + m xa 1e-6 [kN], xa [mm/s^2] the damper body's
+    acceleration (the record's a without a gap; 1 kg mm/s^2 = 1e-6 kN)."""
+    return _col(P, 0) * 1e-6 * np.asarray(xa)
 
 
 def _stiff(s):
@@ -106,13 +111,13 @@ BUILTIN = (
                               lambda s: (0.3 * _stiff(s), 3000.0 * _stiff(s)),
                               "spring in series with the law (oil, seals, rod, frame); "
                               "the upper bound is rigid", log=True),),
-        equation="F = Ks (y - x) = law(x, dx/dt), y = d",
+        equation="F = Ks (y - x) = element(x, dx/dt), y = d (or the gap's output)",
         summary="fluid compressibility / series flexibility: a spring in series with the orifice "
                 "(Maxwell model)",
         symptom="force lags the velocity at reversals (tilted loop, force not zero at zero velocity)",
         cause="the fluid is compressible and the connections flex"),
     Effect(
-        name="asymmetry", stage="output", order=40, function=asymmetry_force, none=(0.0,),
+        name="asymmetry", stage="output", order=40, series_slot="r", function=asymmetry_force, none=(0.0,),
         parameters=(Parameter("r", "-", (-0.5, 0.5), lambda s: (-0.5, 0.5),
                               "tension/compression force ratio offset"),),
         equation="F_law (1 + r sign(F_law))",
@@ -120,18 +125,18 @@ BUILTIN = (
         symptom="peak forces differ in tension and compression",
         cause="the two piston sides or valves differ"),
     Effect(
-        name="thermal_softening", stage="output", order=50, function=thermal_force, none=(0.0,),
+        name="thermal_softening", stage="output", order=50, series_slot="theta", function=thermal_force, none=(0.0,),
         parameters=(Parameter("theta", "1/MJ", (0.0, 10.0), lambda s: (0.0, 1.0 / _cycle_energy(s)),
                               "force loss per MJ dissipated", log=True),),
-        equation="F_law exp(-theta E), E = 1e-6 integral F_law xv dt [MJ]",
+        equation="F_law exp(-theta E), E = 1e-6 integral (F_law exp(-theta E)) u dt [MJ]",
         summary="heating: dissipated energy warms the oil and the force falls cycle after cycle",
         symptom="force falls from cycle to cycle (residual grows with time and dissipated energy)",
         cause="the oil heats up and its viscosity drops"),
     Effect(
-        name="friction", stage="parallel", order=60, function=friction_force, none=(0.0,),
+        name="friction", stage="parallel", order=60, series_slot="Ff", function=friction_force, none=(0.0,),
         parameters=(Parameter("Ff", "kN", (0.0, 30.0), lambda s: (0.0, 0.3 * s["F"]),
                               "seal friction force"),),
-        equation=f"+ Ff tanh(v / v_f), v_f = {FRICTION_V_F:g} mm/s",
+        equation=f"+ Ff tanh(u / v_f), v_f = {FRICTION_V_F:g} mm/s, u the law's velocity",
         summary="seal friction: a nearly constant force opposing motion, dominant at low velocity",
         symptom="loops are too square at low velocity (a constant force the law misses)",
         cause="the seals rub"),
@@ -141,7 +146,7 @@ BUILTIN = (
                               "parallel stiffness (accumulator, gas spring)"),
                     Parameter("F0", "kN", (-30.0, 30.0), lambda s: (-0.2 * s["F"], 0.2 * s["F"]),
                               "preload")),
-        equation="+ Kp d + F0",
+        equation="+ Kp x + F0 (x = d, or the body's displacement after a gap)",
         summary="accumulator / gas spring and preload: a static stiffness and an offset force",
         symptom="residual grows with displacement and has an offset",
         cause="pressurised fluid acts as a spring with a preload"),
@@ -149,7 +154,7 @@ BUILTIN = (
         name="inertia", stage="parallel", order=80, function=inertia_force, none=(0.0,),
         parameters=(Parameter("m", "kg", (0.0, 1e4), lambda s: (0.0, 0.5 * s["F"] / _accel(s) * 1e6),
                               "moving mass (fluid and piston)"),),
-        equation="+ m a 1e-6",
+        equation="+ m a 1e-6 (a of the body: 0 in a gap's free play)",
         summary="inertia: moving fluid and piston mass, a force proportional to acceleration",
         symptom="residual follows the acceleration (grows with frequency, peaks at the reversals)",
         cause="fluid and piston mass are accelerated"),

@@ -1,13 +1,19 @@
-"""Composition of a law with effects, in one fixed order.
+"""Composition of a law with effects, in one fixed order (the rig's physics):
 
-    1. input     (gap):               x, xv = play(d), its velocity   [the law sees x, xv]
-    2. series    (series_stiffness):  F = Ks (x - x_law) = law(x_law, dx_law/dt)
-    3. law       F_law = law(x, xv)   (when there is no series spring)
-    4. output    (asymmetry, then thermal_softening): F_law transformed
-    5. parallel  (friction, parallel_stiffness, inertia, user terms): added
+    1. input     gap:                x, xv, xa = play(d), its velocity and acceleration
+                                     (the damper body's motion; d, v, a without a gap)
+    2. element   F_el(x_o, u) = law(x_o, u), then the output effects in order
+                 (asymmetry: x (1 +- r), thermal_softening: x exp(-theta E)),
+                 plus friction Ff tanh(u / v_f)
+    3. series    series_stiffness:   Ks (x - x_o) = F_el(x_o, u), u = dx_o/dt
+                                     (without it x_o = x, u = xv)
+    4. parallel  + Kp x + F0 (parallel_stiffness), + m xa 1e-6 (inertia), user terms
 
-Within a stage effects apply in increasing ``Effect.order``.  Without any
-effect the model is the law itself.
+With a series spring, the built-in element effects (asymmetry,
+thermal_softening, friction) are solved inside the spring's implicit step
+(kernels.series_population); a user's output or parallel effect is then
+applied outside the spring.  Within a stage effects apply in increasing
+``Effect.order``.  Without any effect the model is the law itself.
 """
 
 from __future__ import annotations
@@ -47,62 +53,94 @@ def _checked(e, F, pop: int, n: int) -> np.ndarray:
 
 
 def law_force(model, x, xv, dt, PL, substeps) -> np.ndarray:
-    """The law on per-row (pop, n_t) or shared (1, n_t) kinematics."""
+    """The law on per-row (pop, n_t) or shared (1, n_t) kinematics [kN]."""
     if x.shape[0] == 1:
         return model.law.force(x[0], xv[0], dt, PL, substeps)
-    return np.vstack([model.law.force(x[i], xv[i], dt, PL[i:i + 1], substeps) for i in range(PL.shape[0])])
+    import numba
+
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # one compiled call per row: no thread start-up each time
+    try:
+        return np.vstack([model.law.force(x[i], xv[i], dt, PL[i:i + 1], substeps)
+                          for i in range(PL.shape[0])])
+    finally:
+        numba.set_num_threads(threads)
+
+
+def _series(model, e, x, xv, dt, PL, PE, pop, substeps):
+    slots = {"r": np.zeros(pop), "theta": np.zeros(pop), "Ff": np.zeros(pop)}
+    inside = set()
+    for other in model.effects:
+        if other.series_slot:
+            slots[other.series_slot] = np.ascontiguousarray(PE[other.name][:, 0], dtype=float)
+            inside.add(other.name)
+    F, U, FO = kernels.series_population(
+        model.law.number, np.ascontiguousarray(np.broadcast_to(x, (x.shape[0], x.shape[1])), dtype=float),
+        np.ascontiguousarray(xv, dtype=float), float(dt),
+        np.ascontiguousarray(PE[e.name][:, 0], dtype=float), np.ascontiguousarray(PL, dtype=float),
+        slots["r"], slots["theta"], slots["Ff"], int(substeps))
+    return F, U, FO, inside
 
 
 def composed_force(model, record, P: np.ndarray, substeps: int = 1, parts: bool = False):
     """Force [kN] of ``model`` (law + effects) for each row of P -> (pop, n_t).
 
-    With ``parts=True`` returns (F, {term: contribution (pop, n_t)}), where
-    'law' is the law's force after the input and series stages, each output
-    effect contributes the change it makes and each parallel effect its term.
+    With ``parts=True`` returns (F, {term: contribution (pop, n_t)}): 'law'
+    is the internal element's force before the output effects (with a series
+    spring: the force the spring carries, less friction), each output effect
+    contributes the change it makes and each parallel effect its term; the
+    contributions sum to F.
     """
     P = np.atleast_2d(np.asarray(P, dtype=float))
     pop, n = P.shape[0], record.n
     PL, PE = split_params(model, P)
     dt = record.dt
-    x, xv = record.d[None, :], record.v[None, :]
-    contributions = {}
+    x, xv, xa = record.d[None, :], record.v[None, :], record.a[None, :]
+    parts_out: dict = {}
     effects = ordered(model.effects)
     for e in (e for e in effects if e.stage == "input"):
-        x, xv = e.function(PE[e.name], x, xv, dt)
-        x, xv = _checked(e, x, pop, n), _checked(e, xv, pop, n)
+        out = e.function(PE[e.name], x, xv, xa, dt)
+        if not isinstance(out, tuple) or len(out) != 3:
+            raise InputError(f"effect '{e.name}' ({e.source}): an input effect returns (x, xv, xa)")
+        x, xv, xa = (_checked(e, o, pop, n) for o in out)
     series = [e for e in effects if e.stage == "series"]
+    inside: set = set()
     if series:
-        e = series[0]
-        Ks = np.ascontiguousarray(PE[e.name][:, 0], dtype=float)
-        xx = np.ascontiguousarray(x, dtype=float)
-        vv = np.ascontiguousarray(xv, dtype=float)
-        F, xv = kernels.series_population(model.law.number, xx, vv, dt, Ks,
-                                          np.ascontiguousarray(PL), int(substeps))
+        F, u, FO, inside = _series(model, series[0], x, xv, dt, PL, PE, pop, substeps)
+        if parts:
+            friction = F - FO
+            parts_out["law"] = FO
+            for e in effects:
+                if e.series_slot == "Ff":
+                    parts_out[e.name] = friction
+            if "Ff" not in {e.series_slot for e in effects}:
+                parts_out["law"] = F.copy()
+        xl = x  # user output effects see the body's motion
+        ul = u
     else:
         F = law_force(model, np.asarray(x), np.asarray(xv), dt, PL, substeps)
-    if parts:
-        contributions["law"] = F.copy()
-    for e in (e for e in effects if e.stage == "output"):
-        F_new = _checked(e, e.function(PE[e.name], F, x, xv, dt), pop, n)
         if parts:
-            contributions[e.name] = F_new - F
+            parts_out["law"] = F.copy()
+        xl, ul = x, xv
+    for e in (e for e in effects if e.stage == "output" and e.name not in inside):
+        F_new = _checked(e, e.function(PE[e.name], F, xl, ul, dt), pop, n)
+        if parts:
+            parts_out[e.name] = F_new - F
         F = F_new
-    F = np.array(F, dtype=float, copy=True) if not F.flags.writeable else F
-    for e in (e for e in effects if e.stage == "parallel"):
-        term = _checked(e, e.function(PE[e.name], record.t, record.d, record.v, record.a), pop, n)
+    F = np.array(F, dtype=float)
+    for e in (e for e in effects if e.stage == "parallel" and e.name not in inside):
+        term = _checked(e, e.function(PE[e.name], record.t, x, xv, xa), pop, n)
         if parts:
-            contributions[e.name] = np.array(term)
+            parts_out[e.name] = np.array(term)
         F = F + term
-    return (F, contributions) if parts else F
+    return (F, parts_out) if parts else F
 
 
 def contributions(model, record, params) -> dict:
     """Per-term force contributions [kN] of one parameter vector (Pastas-style):
     {'law': ..., effect name: ...}, each (n_t,); they sum to the model force."""
-    from ..model import Model  # noqa: F401  (documentation link)
-
     p = np.atleast_2d(np.asarray(params, dtype=float))
     if not model.effects:
         return {"law": model.force(record, p)[0]}
     _, parts = composed_force(model, record, p, parts=True)
-    return {k: v[0] for k, v in parts.items()}
+    return {k: np.asarray(v)[0] for k, v in parts.items()}

@@ -14,6 +14,8 @@ from numba import njit, prange
 
 from ..laws.steps import bouc_wen_step, lugre_step, maxwell_step, powsign, slip_step
 
+#: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
+FRICTION_V_F = 1.0
 #: J (kN mm) -> MJ
 J_TO_MJ = 1e-6
 
@@ -22,95 +24,74 @@ J_TO_MJ = 1e-6
 @njit(cache=True)
 def play_step(y, d, half):
     """Play (backlash) operator with half-width ``half`` [mm]: y stays until
-    |d - y| reaches half, then follows d at that distance."""
+    |d - y| reaches half, then follows d at that distance.  Returns the new
+    y and the contact side (+1 pushed in tension, -1 in compression, 0 free:
+    y did not move in this step)."""
     if d - y > half:
-        return d - half
+        return d - half, 1
     if y - d > half:
-        return d + half
-    return y
-
-
-@njit(cache=True)
-def play_velocity(y, d, v, half):
-    """Velocity [mm/s] of the play output: v while the pin is in contact and
-    pushing (d at the edge of the clearance, moving outward), else 0."""
-    if v > 0.0 and d - y >= half:
-        return v
-    if v < 0.0 and y - d >= half:
-        return v
-    return 0.0
+        return d + half, -1
+    return y, 0
 
 
 @njit(parallel=True, cache=True)
-def play_population(d, v, g):
+def play_population(d, v, acc, g):
     """Play operator of d [mm] for each clearance g [mm] (half-width g/2),
-    starting centred (x = d at t = 0); d, v (pop or 1, n_t) [mm, mm/s].
-    Returns x, xv (pop, n_t) [mm, mm/s]."""
+    starting centred (x = d at t = 0, out of contact); d, v, acc (pop or 1,
+    n_t) [mm, mm/s, mm/s^2].  Returns x, xv, xa (pop, n_t): the position,
+    velocity and acceleration of the damper body (velocity and acceleration
+    are the imposed ones in contact, 0 in free play)."""
     pop, n = g.size, d.shape[1]
     x = np.empty((pop, n))
     xv = np.empty((pop, n))
+    xa = np.empty((pop, n))
     rows = np.zeros(pop, np.int64) if d.shape[0] == 1 else np.arange(pop)
     for i in prange(pop):
         r = rows[i]
         half = 0.5 * max(g[i], 0.0)
         y = d[r, 0]
         for k in range(n):
-            y = play_step(y, d[r, k], half)
+            y, side = play_step(y, d[r, k], half)
             x[i, k] = y
-            xv[i, k] = play_velocity(y, d[r, k], v[r, k], half)
-    return x, xv
+            # in contact while pushed (y moved and v pushes on that side):
+            # the body moves with d (v, a); else it rests
+            contact = side * v[r, k] > 0.0
+            xv[i, k] = v[r, k] if contact else 0.0
+            xa[i, k] = acc[r, k] if contact else 0.0
+    return x, xv, xa
 
 
 # ----------------------------------------------------------- thermal softening
-@njit(cache=True)
-def heat_step(E, p0, p1, h):
-    """Dissipated energy [MJ] after a step h [s] with power p0 -> p1 [kN mm/s]
-    (trapezoidal rule)."""
-    return E + 0.5 * h * (p0 + p1) * J_TO_MJ
-
-
 @njit(parallel=True, cache=True)
 def thermal_population(F, xv, dt, theta):
-    """F exp(-theta E(t)), E [MJ] = integral of F xv dt so far (the law's
-    dissipated energy, from the unsoftened force F [kN] and the law's velocity
-    xv [mm/s]); F (pop, n_t), xv (pop or 1, n_t), theta (pop,) [1/MJ]."""
+    """Heating: F / (1 + theta W0(t)) for each row, W0 [MJ] = 1e-6 integral
+    F xv dt (trapezoidal rule) with F [kN] the unsoftened force and xv [mm/s]
+    the law's velocity; F (pop, n_t), xv (pop or 1, n_t), theta (pop,) [1/MJ].
+
+    This is F exp(-theta E) with E = 1e-6 integral of the *softened* force
+    times xv: dE/dt = exp(-theta E) dW0/dt integrates to
+    exp(theta E) = 1 + theta W0."""
     pop, n = F.shape
     out = np.empty((pop, n))
     rows = np.zeros(pop, np.int64) if xv.shape[0] == 1 else np.arange(pop)
     for i in prange(pop):
         r = rows[i]
-        E = 0.0
+        W = 0.0
         out[i, 0] = F[i, 0]
         p_prev = F[i, 0] * xv[r, 0]
         for k in range(1, n):
             p = F[i, k] * xv[r, k]
-            E = heat_step(E, p_prev, p, dt)
-            out[i, k] = F[i, k] * math.exp(-theta[i] * E)
+            W += 0.5 * dt * (p_prev + p) * J_TO_MJ
+            out[i, k] = F[i, k] / (1.0 + theta[i] * W)
             p_prev = p
     return out
 
 
 # --------------------------------------------------------- series stiffness
-#: largest exponent of the dashpot rate exp(log(|u|/C)/alpha) (keeps it finite)
-RATE_LOG_MAX = 690.0
-#: smallest damping exponent used by the series solver (alpha -> 0 is a slider)
+#: largest |u| [mm/s] the series solver considers (keeps |q|^(1/alpha) finite)
+U_MAX = 1e12
+#: smallest exponent used to map q = sign(u)|u|^alpha back to u
 ALPHA_MIN = 1e-3
-
-
-@njit(cache=True)
-def dashpot_rate(u, C, alpha):
-    """Velocity [mm/s] of a dashpot C sign(xd)|xd|^alpha carrying force u [kN]:
-    xd = sign(u) (|u|/C)^(1/alpha), and d xd / du (for Newton)."""
-    if u == 0.0:
-        return 0.0, (1.0 / C if alpha == 1.0 and C > 0.0 else 0.0)
-    a = max(alpha, ALPHA_MIN)
-    c = max(C, 1e-300)
-    lr = math.log(abs(u) / c) / a
-    if lr > RATE_LOG_MAX:
-        r = math.exp(RATE_LOG_MAX)
-        return math.copysign(r, u), 0.0
-    r = math.exp(lr)
-    return math.copysign(r, u), r / (a * abs(u))
 
 
 @njit(cache=True)
@@ -127,26 +108,6 @@ def static_force(code, x, p):
         s = p[2] * math.copysign(ax ** p[3], x)
         return s, p[3] * abs(s) / ax
     return 0.0, 0.0
-
-
-@njit(cache=True)
-def viscous_residual(w, w0, travel, xd0, h, y, Ks, code, p):
-    """Series spring Ks [kN/mm] + law 1-5, trapezoidal rule on the spring
-    stretch w [mm] (F = Ks w):
-
-      dw/dt = xv - xd,  xd = dashpot velocity carrying Ks w - S(y - w),
-      g(w) = w - w0 - travel + h/2 (xd0 + xd(w)) = 0,
-
-    with travel = integral of xv over the step.  Returns g, dg/dw, xd."""
-    if code == 1:
-        C, alpha = p[0], 1.0
-    else:
-        C, alpha = p[0], p[1]
-    S, dS = static_force(code, y - w, p)
-    xd, dxd = dashpot_rate(Ks * w - S, C, alpha)
-    g = w - w0 - travel + 0.5 * h * (xd0 + xd)
-    dg = 1.0 + 0.5 * h * dxd * (Ks + dS)
-    return g, dg, xd
 
 
 @njit(cache=True)
@@ -170,154 +131,189 @@ def hysteretic_state(code, z0, u, p, h):
 
 
 @njit(cache=True)
-def hysteretic_force(code, x, z, xd, p):
-    """Force [kN] of laws 6-9 at law displacement x, state z, law velocity xd."""
+def hysteretic_force(code, x, z, u, p):
+    """Force [kN] of laws 6-9 at law displacement x [mm], state z, velocity u [mm/s]."""
     if code == 6:
-        return p[2] * p[1] * x + (1.0 - p[2]) * p[1] * z + p[0] * xd
+        return p[2] * p[1] * x + (1.0 - p[2]) * p[1] * z + p[0] * u
     if code == 8:
-        return z * p[2] * p[3] + p[0] * xd
+        return z * p[2] * p[3] + p[0] * u
     if code == 9:
-        return p[2] * z + p[0] * xd
+        return p[2] * z + p[0] * u
     return p[2] * powsign(z, p[3])
 
 
 @njit(cache=True)
-def hysteretic_residual(w, x0, z0, y, h, Ks, code, p):
-    """Series spring + law 6-9: force balance Ks w = law(x, z, xd) at the end
-    of the step, x = y - w, law travel u = x - x0, z = z(z0, u), xd = u / h
-    (backward Euler on the law's viscous term; first order, use substeps).
-    Returns the residual (increasing in w) and z."""
+def law_exponent(code, p):
+    """Exponent a of the map q = sign(u)|u|^a used as the solver's unknown:
+    the damping exponent of laws 2-5 (so the power term is linear in q), 1
+    otherwise."""
+    if 2 <= code <= 5:
+        return min(max(p[1], ALPHA_MIN), 1.0)
+    return 1.0
+
+
+@njit(cache=True)
+def q_to_u(q, a):
+    """u = sign(q)|q|^(1/a), and du/dq; |u| capped at U_MAX."""
+    if q == 0.0:
+        return 0.0, (1.0 if a == 1.0 else 0.0)
+    if a == 1.0:
+        return q, 1.0
+    lq = math.log(abs(q))
+    lu = lq / a
+    if lu > math.log(U_MAX):
+        return math.copysign(U_MAX, q), 0.0
+    u = math.copysign(math.exp(lu), q)
+    return u, abs(u) / (a * abs(q))
+
+
+@njit(cache=True)
+def element_force(code, p, x, x0, u, z0, h, r, hf, Ff):
+    """Internal element at the end of a step: the law at displacement x [mm]
+    (x0 at the step start) and velocity u [mm/s], with asymmetry r [-] and
+    heat factor hf [-], plus friction Ff tanh(u / v_f) [kN].
+
+    Returns (F_int, F_o, z, dF_int/du at fixed x, dF_law/dx): F_o the law's
+    force with asymmetry and heating (the orifice force), z the law state."""
+    z = z0
+    if code <= 5:
+        S, dS = static_force(code, x, p)
+        if code == 1:
+            Fl = p[0] * u
+        else:
+            Fl = p[0] * powsign(u, p[1]) + S
+        dFdx = dS
+    else:
+        z = hysteretic_state(code, z0, x - x0, p, h)
+        Fl = hysteretic_force(code, x, z, u, p)
+        dFdx = 0.0
+    A = 1.0 + r if Fl > 0.0 else (1.0 - r if Fl < 0.0 else 1.0)
+    Fo = hf * A * Fl
+    th = math.tanh(u / FRICTION_V_F) if Ff != 0.0 else 0.0
+    return Fo + Ff * th, Fo, z, Ff / FRICTION_V_F * (1.0 - th * th), hf * A * dFdx
+
+
+@njit(cache=True)
+def series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
+    """R(q) = F_int(x(u), u) - Ks w(u), u = u(q), w(u) = wb - hth u, x = y - w.
+
+    R increases with q; returns R, dR/dq (Newton; exact for laws 1-5,
+    approximate for 6-9) and u, w, F_o, z."""
+    u, dudq = q_to_u(q, a)
+    w = wb - hth * u
     x = y - w
-    u = x - x0
-    z = hysteretic_state(code, z0, u, p, h)
-    return Ks * w - hysteretic_force(code, x, z, u / h, p), z
+    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, h, r, hf, Ff)
+    if code <= 5 and code != 1:
+        A = 1.0 + r if Fo > 0.0 else (1.0 - r if Fo < 0.0 else 1.0)
+        dR = hf * A * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq
+    elif code == 1:
+        A = 1.0 + r if Fo > 0.0 else (1.0 - r if Fo < 0.0 else 1.0)
+        dR = (hf * A * p[0] + dfric + Ks * hth) * dudq
+    else:
+        dR = 0.0  # estimated by the solver from a secant
+    return Fi - Ks * w, dR, u, w, Fo, z
 
 
 @njit(cache=True)
-def _bracket_root(gl, gh, wl, wh):
-    """Illinois false-position step, kept inside the bracket."""
-    w = wh - gh * (wh - wl) / (gh - gl) if gh != gl else 0.5 * (wl + wh)
-    if not (min(wl, wh) < w < max(wl, wh)):
-        w = 0.5 * (wl + wh)
-    return w
-
-
-@njit(cache=True)
-def series_viscous_step(w0, xd0, y, travel, h, Ks, code, p, w_guess):
-    """One step of Ks in series with a law 1-5: returns (w, xd).
-
-    Newton on g(w) (viscous_residual) from ``w_guess``, safeguarded by the
-    bracket that the signs of g build up (g increases with w; the dashpot
-    rate is convex on the side of the root, so Newton lands on the far side
-    and then converges monotonically)."""
+def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
+    """Solve R(q) = 0 (series_residual) for one step: safeguarded Newton
+    (secant slopes for laws 6-9) inside the bracket the signs of R build up,
+    expanding geometrically until both sides are known.
+    Returns u, w, F_o, z at the root."""
     lo, hi = -math.inf, math.inf
-    w = w_guess
-    g, dg, xd = viscous_residual(w, w0, travel, xd0, h, y, Ks, code, p)
-    scale = abs(travel) + abs(h * xd0) + 1e-9 * (1.0 + abs(w))
-    for _ in range(100):
-        if g == 0.0:
-            return w, xd
-        if g < 0.0:
-            lo = w
-        else:
-            hi = w
-        dx = g / dg if dg > 0.0 else math.nan
-        if abs(dx) <= 1e-12 * (1.0 + abs(w)):
-            return w, xd  # converged (Newton step below round-off)
-        wn = w - dx
-        if not (lo < wn < hi):
-            if math.isinf(lo) or math.isinf(hi):
-                # no bracket yet on one side: step out geometrically
-                scale *= 2.0
-                wn = w + scale if g < 0.0 else w - scale
-            else:
-                wn = 0.5 * (lo + hi)
-                if hi - lo <= 1e-12 * (1.0 + abs(wn)):
-                    w = wn
-                    g, dg, xd = viscous_residual(w, w0, travel, xd0, h, y, Ks, code, p)
-                    return w, xd
-        w = wn
-        g, dg, xd = viscous_residual(w, w0, travel, xd0, h, y, Ks, code, p)
-    return w, xd
-
-
-@njit(cache=True)
-def series_hysteretic_step(w0, x0, z0, y, h, Ks, code, p):
-    """One step of Ks in series with a law 6-9: returns (w, z).
-
-    Illinois false position on the increasing residual hysteretic_residual(w)
-    inside a bracket found by expanding from w0."""
-    a = w0
-    ga, za = hysteretic_residual(a, x0, z0, y, h, Ks, code, p)
-    if ga == 0.0:
-        return a, za
-    step = abs(y - x0 - w0) + 1e-9 * (1.0 + abs(a))
-    direction = -1.0 if ga > 0.0 else 1.0
-    b = a + direction * step
-    gb, zb = hysteretic_residual(b, x0, z0, y, h, Ks, code, p)
-    it = 0
-    while gb * ga > 0.0 and it < 200:
-        a, ga = b, gb
-        step *= 2.0
-        b = a + direction * step
-        gb, zb = hysteretic_residual(b, x0, z0, y, h, Ks, code, p)
-        it += 1
-    side = 0
-    w, z = b, zb
+    q = q_guess
+    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+    q_prev, R_prev = math.nan, math.nan
+    scale = abs(q) * 0.5 + 1e-3
     for _ in range(200):
-        w = _bracket_root(ga, gb, a, b)
-        g, z = hysteretic_residual(w, x0, z0, y, h, Ks, code, p)
-        if g == 0.0 or abs(b - a) <= 1e-13 * (1.0 + abs(w)):
+        if R == 0.0:
             break
-        if g * gb < 0.0:
-            a, ga = b, gb
-            b, gb = w, g
-            side = 0
+        if R < 0.0:
+            lo = q
         else:
-            b, gb = w, g
-            if side == 1:
-                ga *= 0.5  # Illinois: halve the stale end
-            side = 1
-    return w, z
+            hi = q
+        if code > 5:
+            if q_prev == q_prev and q_prev != q and R != R_prev:
+                dR = (R - R_prev) / (q - q_prev)
+            else:
+                dq = 1e-7 * (1.0 + abs(q))
+                R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)[0]
+                dR = (R2 - R) / dq
+        step = R / dR if dR > 0.0 else math.nan
+        if abs(step) <= 1e-13 * (1.0 + abs(q)):
+            break
+        qn = q - step
+        if not (lo < qn < hi):
+            if math.isinf(lo) or math.isinf(hi):
+                scale *= 4.0
+                qn = q + scale if R < 0.0 else q - scale
+            else:
+                qn = 0.5 * (lo + hi)
+                if hi - lo <= 1e-14 * (1.0 + abs(qn)):
+                    q = qn
+                    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+                    break
+        q_prev, R_prev = q, R
+        q = qn
+        R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+    return u, w, Fo, z
 
 
 @njit(parallel=True, cache=True)
-def series_population(code, x, xv, dt, Ks, P, substeps):
-    """Law ``code`` (1-9) in series with a spring Ks [kN/mm] for each row of
-    P (the law's parameters): returns the force F = Ks w [kN] and the law
-    element's velocity xd [mm/s], (pop, n_t) each.
+def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
+    """A spring Ks [kN/mm] in series with the internal element (law ``code``
+    1-9 with parameters P[i], asymmetry r [-], heating theta [1/MJ], friction
+    Ff [kN]), for each row i:
+
+      F = Ks w = F_int(x_o, u),  w = x - x_o,  u = dx_o/dt,
+      F_int = hf A law(x_o, u) + Ff tanh(u / v_f),  A = 1 +- r (sign of the law force),
+      hf = 1 / (1 + theta W0),  W0 = 1e-6 integral A law u dt  [MJ]
+      (hf = exp(-theta E), E the energy the law has dissipated, as in
+      thermal_population).
 
     x, xv (pop or 1, n_t): displacement [mm] and velocity [mm/s] of the
-    spring-plus-law pair (the record's d, v, or the gap's output).  The
-    spring starts unstretched and the law at rest.  Between samples x and xv
-    are linear in time; each sample step is split into ``substeps``."""
+    damper body (the record's d, v or the gap's output).  Trapezoidal rule
+    on w for laws 1-5 (w = w0 + travel - h/2 (u0 + u)), backward Euler for
+    6-9 (w = w0 + travel - h u; first order, their viscous term C u would
+    ring under the trapezoidal rule); travel = integral of xv over the step,
+    xv linear in time; ``substeps`` steps per sample step; hf from W0 at the
+    start of each step.  The spring starts unstretched and the law at rest.
+
+    Returns F [kN] (through the spring), u [mm/s] (the law's velocity) and
+    F_o [kN] (the law force with asymmetry and heating), each (pop, n_t)."""
     pop, n = P.shape[0], x.shape[1]
     F = np.zeros((pop, n))
-    XD = np.zeros((pop, n))
+    U = np.zeros((pop, n))
+    FO = np.zeros((pop, n))
     rows = np.zeros(pop, np.int64) if x.shape[0] == 1 else np.arange(pop)
     h = dt / substeps
     for i in prange(pop):
-        r = rows[i]
+        ri = rows[i]
         p = P[i]
         ks = Ks[i]
-        w, xd, z, dw = 0.0, 0.0, 0.0, 0.0
-        xl = x[r, 0]  # law displacement
-        XD[i, 0] = xd
+        th = 1.0 if code > 5 else 0.5
+        a = law_exponent(code, p)
+        w, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0
+        xl = x[ri, 0]  # law displacement
+        q = 0.0
         for k in range(1, n):
             for j in range(substeps):
                 f0, f1 = j / substeps, (j + 1) / substeps
-                va = xv[r, k - 1] + (xv[r, k] - xv[r, k - 1]) * f0
-                vb = xv[r, k - 1] + (xv[r, k] - xv[r, k - 1]) * f1
-                yb = x[r, k - 1] + (x[r, k] - x[r, k - 1]) * f1
-                if code <= 5:
-                    w1, xd = series_viscous_step(w, xd, yb, 0.5 * (va + vb) * h, h, ks, code, p, w + dw)
-                    dw = w1 - w
-                    w = w1
-                else:
-                    w1, z = series_hysteretic_step(w, xl, z, yb, h, ks, code, p)
-                    xd = (yb - w1 - xl) / h
-                    xl = yb - w1
-                    w = w1
+                va = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f0
+                vb = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f1
+                yb = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f1
+                travel = 0.5 * (va + vb) * h
+                wb = w + travel - h * (1.0 - th) * u
+                hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw)) if theta[i] != 0.0 else 1.0
+                u1, w1, fo, z1 = series_step(q, a, code, p, yb, wb, h * th, xl, z, h, ks, r[i], hf, Ff[i])
+                # unsoftened law power A law u = F_o u / hf
+                pw1 = fo * u1 / hf
+                W0 += 0.5 * h * (pw + pw1) * J_TO_MJ
+                pw = pw1
+                xl = yb - w1
+                u, w, z = u1, w1, z1
+                q = powsign(u, a) if a != 1.0 else u
+                FO[i, k] = fo
             F[i, k] = ks * w
-            XD[i, k] = xd
-    return F, XD
+            U[i, k] = u
+    return F, U, FO

@@ -29,6 +29,9 @@ def _k_lin(s):
     return (0.0, 3.0 * s["F"] / s["d"])
 
 
+#: law 5's spring exponent reaches the paper's bound 5 on FVD loops (Table A.7): allow more
+BETA5_MAX = 10.0
+
 C_LIN = Parameter("C", "kN/(mm/s)", (0.0, 2.0), _c_lin, "linear damping coefficient")
 C_POW = Parameter("C", "kN/(mm/s)^alpha", (0.0, 2.0), _c_pow, "damping coefficient", log=False)
 ALPHA = Parameter("alpha", "-", (0.0, 1.0), _alpha, "damping exponent")
@@ -54,8 +57,10 @@ LAWS = {
            "F = K sign(d)|d|^beta + C sign(v)|v|^alpha", "paper eq. 7",
            (C_POW, ALPHA,
             Parameter("K", "kN/mm^beta", (0.0, 1000.0),
-                      lambda s: (0.0, 3.0 * s["F"] * max(1.0, 1.0 / s["d"]) ** 5), "spring coefficient"),
-            Parameter("beta", "-", (0.0, 5.0), lambda s: (0.0, 5.0), "spring exponent")),
+                      lambda s: (1e-3 * s["F"] / max(s["d"], 1.0) ** BETA5_MAX,
+                                 3.0 * s["F"] * max(1.0, 1.0 / s["d"]) ** BETA5_MAX),
+                      "spring coefficient", log=True),
+            Parameter("beta", "-", (0.0, 5.0), lambda s: (0.0, BETA5_MAX), "spring exponent")),
            algebraic.law5),
     6: Law(6, "Bouc-Wen + viscous", "differential",
            "F = alpha K d + (1-alpha) K z + C v;  dz/dt = v - beta |v| z - beta v |z|",

@@ -3,31 +3,40 @@
 from __future__ import annotations
 
 import os
-import tempfile
 
 from ..errors import InputError
 from ..records.record import Record
+
+
+def check_target(path: str) -> str:
+    """Refuse an image path whose folder is missing or whose format matplotlib
+    cannot write; returns the format (the extension, png when there is none)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fmt = os.path.splitext(path)[1].lstrip(".").lower() or "png"
+    known = FigureCanvasAgg(Figure()).get_supported_filetypes()
+    if fmt not in known:
+        raise InputError(f"--plot {path}: unknown image format '.{fmt}' (known: {', '.join(sorted(known))})")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InputError(f"--plot {path}: folder {folder} does not exist")
+    return fmt
 
 
 def plot_record(rec: Record, path: str, title: str | None = None) -> str:
     """Draw the 2x2 quick-look of ``rec`` and write it to ``path`` atomically.
 
     The image format follows the file extension (png, pdf, svg, ...); the
-    figure goes to a temporary file in the same folder, then is renamed.
+    figure goes to PATH.<pid>.part in the same folder, then is renamed.
     Returns ``path``.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    folder = os.path.dirname(os.path.abspath(path))
-    fmt = os.path.splitext(path)[1].lstrip(".").lower() or "png"
+    fmt = check_target(path)
     fig = Figure(figsize=(10, 7), layout="constrained")
-    canvas = FigureCanvasAgg(fig)
-    if fmt not in canvas.get_supported_filetypes():
-        raise InputError(f"--plot {path}: unknown image format '.{fmt}' "
-                         f"(known: {', '.join(sorted(canvas.get_supported_filetypes()))})")
-    if not os.path.isdir(folder):
-        raise InputError(f"--plot {path}: folder {folder} does not exist")
+    FigureCanvasAgg(fig)
     ax = fig.subplots(2, 2)
     style = {"lw": 0.8}
     ax[0, 0].plot(rec.t, rec.F, **style)
@@ -43,10 +52,9 @@ def plot_record(rec: Record, path: str, title: str | None = None) -> str:
     for a in ax.flat:
         a.grid(alpha=0.3)
     fig.suptitle(title or rec.name)
-    fd, tmp = tempfile.mkstemp(prefix=".plot-", suffix=f".{fmt}", dir=folder)
+    tmp = f"{path}.{os.getpid()}.part"
     try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format=fmt, dpi=120)
+        fig.savefig(tmp, format=fmt, dpi=120)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -52,7 +52,9 @@ def _load(path: str) -> dict:
     except NotImplementedError:
         raise InputError(f"{path}: MATLAB v7.3 (HDF5) files are not supported; save with -v7") from None
     except Exception as exc:  # scipy raises several types for corrupt files
-        raise InputError(f"{path}: not a readable MATLAB file ({type(exc).__name__})") from None
+        detail = (str(exc).splitlines() or [""])[0][:80]
+        raise InputError(f"{path}: not a readable MATLAB file ({type(exc).__name__}"
+                         f"{': ' + detail if detail else ''})") from None
 
 
 def _listing(variables: list[str]) -> str:

@@ -103,10 +103,11 @@ def _load_sidecar(side: str) -> dict:
         return {}
     if not isinstance(data, dict):
         raise InputError(f"{side}: row 1: expected a mapping with keys {', '.join(SIDECAR_KEYS)}")
-    lines = {k.value: k.start_mark.line + 1 for k, _ in node.value} if isinstance(node, yaml.MappingNode) else {}
+    lines = _key_lines(node)
 
-    def fail(key, message):
-        raise InputError(f"{side}: row {lines.get(key, 1)}, key '{key}': {message}")
+    def fail(key, message, entry=None):
+        row = lines.get((key, entry), lines.get((key, None), 1))
+        raise InputError(f"{side}: row {row}, key '{key}': {message}")
 
     out = {}
     for key, value in data.items():
@@ -117,9 +118,9 @@ def _load_sidecar(side: str) -> dict:
                 fail(key, "expected a mapping such as {t: time, d: disp, F: load}")
             for k, v in value.items():
                 if k not in CANONICAL:
-                    fail(key, f"unknown entry '{k}' (expected t, d, F or v)")
+                    fail(key, f"unknown entry '{k}' (expected t, d, F or v)", k)
                 if not isinstance(v, (str, int)) or isinstance(v, bool):
-                    fail(key, f"{k}: expected a name{' or column index' if key == 'columns' else ''}, got {v!r}")
+                    fail(key, f"{k}: expected a name{' or column index' if key == 'columns' else ''}, got {v!r}", k)
             out[key] = {k: str(v) for k, v in value.items()}
         elif key == "mat_var":
             if not isinstance(value, str):
@@ -133,5 +134,18 @@ def _load_sidecar(side: str) -> dict:
         try:
             factor(k, unit)
         except InputError as exc:
-            fail("units", str(exc))
+            fail("units", str(exc), k)
     return out
+
+
+def _key_lines(node) -> dict:
+    """{(key, None): line, (key, entry): line} of a two-level YAML mapping (lines from 1)."""
+    lines = {}
+    if not isinstance(node, yaml.MappingNode):
+        return lines
+    for k, v in node.value:
+        lines[(k.value, None)] = k.start_mark.line + 1
+        if isinstance(v, yaml.MappingNode):
+            for kk, _ in v.value:
+                lines[(k.value, kk.value)] = kk.start_mark.line + 1
+    return lines

@@ -52,7 +52,7 @@ def _checked(path: str, opts: ReadOptions) -> ReadOptions:
         factor(key, unit, f"{path}: --units {key}={unit}: ")
     if opts.dt is not None and not (np.isfinite(opts.dt) and opts.dt > 0):
         raise InputError(f"--dt {opts.dt:g}: must be a positive time step in s")
-    check_settings(opts.sg_window, opts.sg_order, opts.sg_window or 0)
+    check_settings(opts.sg_window, opts.sg_order)
     return opts
 
 
@@ -79,11 +79,11 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     notes += [note] if note else []
     n_cycles = validate.check_cycles(path, raw.names["d"], conv["d"])
     dt = float(t[1] - t[0])
-    v_d, a_d, settings = differentiate(conv["d"], dt, opts.sg_window, opts.sg_order)
+    v_d, a_d, settings = differentiate(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ")
     if "v" in conv:
         validate.check_velocity(path, raw.names["v"], conv["v"], v_d)
         v = conv["v"]
-        a, acc = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order)
+        a, acc = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order, f"{path}: ")
         vel = {"method": "measured", "column": raw.names["v"], "acceleration": dict(acc, method="savgol")}
     else:
         v, a, vel = v_d, a_d, settings

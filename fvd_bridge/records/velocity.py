@@ -29,28 +29,34 @@ def default_window(d: np.ndarray, dt: float, polyorder: int = 3) -> int:
     return min(w, d.size if d.size % 2 else d.size - 1)
 
 
-def check_settings(window: int | None, polyorder: int, n: int) -> None:
+def check_settings(window: int | None, polyorder: int, n: int | None = None, where: str = "") -> None:
     """Refuse a window [samples] / order pair the filter cannot use on n samples
-    (window None: the order alone)."""
+    (window None: the order alone; n None: not checked against a record)."""
     if polyorder < 1:
         raise InputError(f"--sg-order {polyorder}: must be at least 1")
-    if window is not None and (window % 2 == 0 or window <= polyorder or window > n):
-        raise InputError(f"--sg-window {window}: must be odd, larger than --sg-order {polyorder} "
-                         f"and at most the number of samples ({n})")
+    if window is None:
+        return
+    if window % 2 == 0:
+        raise InputError(f"--sg-window {window}: must be odd")
+    if window <= polyorder:
+        raise InputError(f"--sg-window {window}: must be larger than --sg-order {polyorder}")
+    if n is not None and window > n:
+        raise InputError(f"{where}--sg-window {window}: larger than the record's {n} samples")
 
 
 def differentiate(d: np.ndarray, dt: float, window: int | None = None,
-                  polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, dict]:
+                  polyorder: int = 3, where: str = "") -> tuple[np.ndarray, np.ndarray, dict]:
     """Savitzky-Golay first and second derivatives of d [mm] on step dt [s].
 
-    Returns v [mm/s], a [mm/s^2] and the settings (method, window [samples],
+    ``where`` prefixes messages (e.g. the file name). Returns v [mm/s],
+    a [mm/s^2] and the settings (method, window [samples],
     window_s [s], polyorder), which go into the record's provenance so that a
     fit can be reproduced.
     """
     auto = window is None
     if auto:
         window = default_window(d, dt, polyorder)
-    check_settings(window, polyorder, d.size)
+    check_settings(window, polyorder, d.size, where)
     v = savgol_derivative(d, window, polyorder, 1, dt)
     a = savgol_derivative(d, window, max(polyorder, 2), 2, dt)
     return v, a, {"method": "savgol", "window": int(window), "window_s": float(window * dt),
@@ -58,7 +64,7 @@ def differentiate(d: np.ndarray, dt: float, window: int | None = None,
 
 
 def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = None,
-                               polyorder: int = 3) -> tuple[np.ndarray, dict]:
+                               polyorder: int = 3, where: str = "") -> tuple[np.ndarray, dict]:
     """Acceleration [mm/s^2] from a measured velocity [mm/s] (Savitzky-Golay, 1st derivative).
 
     Returns the acceleration and the settings used.
@@ -66,7 +72,7 @@ def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = No
     auto = window is None
     if auto:
         window = default_window(v, dt, polyorder)
-    check_settings(window, polyorder, v.size)
+    check_settings(window, polyorder, v.size, where)
     a = savgol_derivative(v, window, polyorder, 1, dt)
     return a, {"window": int(window), "window_s": float(window * dt), "polyorder": int(polyorder),
                "window_chosen": "auto" if auto else "user"}

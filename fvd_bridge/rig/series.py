@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
 
 import numpy as np
 import yaml
@@ -65,10 +67,11 @@ def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None 
     """Simulate every device, then write DEVICE.csv (t,d,F[,v]; kN, mm, s) for
     each and truth.yaml with all true parameters, protocol and noise.
 
-    All records are simulated before anything is written, each file is
-    written to a temporary name and renamed, and on an error the files this
-    call wrote are removed: no partial output. Returns the written paths
-    (records first, truth.yaml last).
+    All records are simulated before anything is written; the files are
+    written into a hidden staging directory inside ``out_dir`` and moved into
+    place only when all of them are complete, so an error leaves no partial
+    or half-written output. Returns the written paths (records first,
+    truth.yaml last).
     """
     noise = noise or Noise()
     devices = list(devices)
@@ -83,27 +86,21 @@ def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None 
         raise InputError(f"--out {out_dir}: exists and is not a directory")
     os.makedirs(out_dir, exist_ok=True)
     files = [f"{dev.name}.csv" for dev in devices]
-    written = []
+    stage = tempfile.mkdtemp(prefix=".rig-", dir=out_dir)
     try:
         for rec, dev, f in zip(records, devices, files):
-            path = os.path.join(out_dir, f)
             comment = (f"fvd_bridge rig: device {dev.name}, protocol {protocol.name}; "
                        f"units t [s], d [mm], F [kN]{', v [mm/s]' if with_velocity else ''}; "
                        f"true parameters in {TRUTH_FILE}")
-            write_csv(rec, path, with_velocity=with_velocity, comment=comment)
-            written.append(path)
-        truth = os.path.join(out_dir, TRUTH_FILE)
-        _atomic_yaml(truth_dict(devices, protocol, noise, seed, files, scatter, extra), truth)
-        written.append(truth)
-    except BaseException:
-        for p in written + [p + ".part" for p in written]:
-            if os.path.exists(p):
-                os.remove(p)
+            write_csv(rec, os.path.join(stage, f), with_velocity=with_velocity, comment=comment)
+        _atomic_yaml(truth_dict(devices, protocol, noise, seed, files, scatter, extra),
+                     os.path.join(stage, TRUTH_FILE))
+        written = []
         for f in files + [TRUTH_FILE]:
-            part = os.path.join(out_dir, f + ".part")
-            if os.path.exists(part):
-                os.remove(part)
-        raise
+            os.replace(os.path.join(stage, f), os.path.join(out_dir, f))
+            written.append(os.path.join(out_dir, f))
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
     return written
 
 
