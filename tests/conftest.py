@@ -42,12 +42,6 @@ def sine(n_cycles: float = 3.0, freq: float = 1.0, dt: float = 0.01, amp: float 
     return {"t": t, "d": d, "F": c * v, "v": v}
 
 
-@pytest.fixture
-def sine_record():
-    """Factory: sine(...) columns (see conftest.sine)."""
-    return sine
-
-
 def csv_text(header: str, columns: list, comments: tuple = ()) -> str:
     """CSV text: '# ' comment lines, the header, then rows of %.10g values."""
     lines = [f"# {c}" for c in comments] + [header]

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import subprocess
 import warnings
 
 import numpy as np
 import pytest
 import scipy.io
 
-from conftest import CLI, REPO, cli_env, sine
+from conftest import sine
 from fvd_bridge import cli
 from fvd_bridge.errors import InputError
 from fvd_bridge.records import ReadOptions, Record, RecordWarning, read_record, summarize
@@ -142,7 +141,8 @@ def test_mat_sidecar(tmp_path):
 @pytest.mark.parametrize("index", [0, 1])
 def test_mat_shared_devices(device_files, index):
     path = device_files[index]
-    rec = read_quiet(path, ReadOptions(mat_var="x_F", columns={"d": "0", "F": "2"}, units={"F": "N"}))
+    dt = (None, 0.01)[index]  # the time step from the file's Ts, or given as --dt
+    rec = read_quiet(path, ReadOptions(mat_var="x_F", columns={"d": "0", "F": "2"}, units={"F": "N"}, dt=dt))
     raw = scipy.io.loadmat(path)["x_F"]
     assert rec.n == raw.shape[0] == (3001, 1501)[index]
     assert rec.dt == pytest.approx(0.01)
@@ -154,13 +154,13 @@ def test_mat_shared_devices(device_files, index):
     assert corr > 0.99
 
 
-def test_inspect_shared_device_cli(device_files, tmp_path):
+def test_inspect_shared_device_cli(device_files, tmp_path, capsys):
     png = tmp_path / "look.png"
-    out = subprocess.run(CLI + ["inspect", str(device_files[0]), "--mat-var", "x_F", "--columns", "d=0,F=2",
-                                "--units", "F=N", "--plot", str(png)],
-                         capture_output=True, text=True, cwd=REPO, env=cli_env(), timeout=120)
-    assert out.returncode == 0, out.stderr
-    assert "samples      3001" in out.stdout and "Savitzky-Golay" in out.stdout
+    rc = cli.main(["inspect", str(device_files[0]), "--mat-var", "x_F", "--columns", "d=0,F=2",
+                   "--units", "F=N", "--plot", str(png)])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "samples      3001" in out and "Savitzky-Golay" in out
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 

@@ -25,12 +25,18 @@ class CampaignSettings:
     stall: int | None = None
     jobs: int = 0  # 0: one process per core
     plugins: tuple = field(default_factory=tuple)
+    bound_overrides: tuple = field(default_factory=tuple)  # (spec or None, name, lower, upper)
+
+    def overrides_for(self, spec: str) -> dict:
+        """{name: (lower, upper)} of the --bound options that apply to ``spec``."""
+        return {name: (lo, hi) for s, name, lo, hi in self.bound_overrides if s in (None, spec)}
 
     def as_dict(self) -> dict:
         s = settings_for(self.optimizer, self.pop, self.gens, self.stall)
         return {"specs": list(self.specs), "runs": self.runs, "bounds": self.bounds,
                 "optimizer": self.optimizer, "seed": self.seed, "optimizer_settings": vars(s),
-                "plugins": list(self.plugins)}
+                "plugins": list(self.plugins),
+                "bound_overrides": [list(o) for o in self.bound_overrides]}
 
 
 def _task_seed(seed: int, device: int, spec_index: int, run: int) -> list[int]:
@@ -48,7 +54,9 @@ def _fit_one(record, spec, seed, cs: CampaignSettings):
         plugins = load_plugins(cs.plugins)
     model = parse_model(spec, plugins)
     settings = settings_for(cs.optimizer, cs.pop, cs.gens, cs.stall)
-    return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=seed, settings=settings)
+    overrides = {n: b for n, b in cs.overrides_for(spec).items() if n in model.names}
+    return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=seed, settings=settings,
+                     overrides=overrides)
 
 
 def _init_worker():

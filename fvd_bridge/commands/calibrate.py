@@ -29,6 +29,9 @@ def add_campaign_options(p):
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--bounds", default="auto", choices=BOUND_MODES,
                    help="'auto' (from the record's scales, default) or 'paper' (Table 4)")
+    p.add_argument("--bound", action="append", default=[], metavar="[LAW:]NAME=LO,HI",
+                   help="override one parameter's bounds, for every law that has it or for one "
+                        "law/spec, e.g. --bound 9:alpha=0,50 (repeatable)")
     p.add_argument("--seed", type=int, default=0, help="base seed; the same seed gives the same results")
     p.add_argument("--optimizer", default="de", choices=OPTIMIZERS,
                    help="'de' (default: differential evolution + polish, reaches the noise floor), "
@@ -56,6 +59,19 @@ def parse_specs(text: str, plugins) -> tuple:
     return tuple(dict.fromkeys(specs))
 
 
+def parse_bound(text: str) -> tuple:
+    """'[SPEC:]NAME=LO,HI' -> (spec or None, name, lo, hi)."""
+    head, sep, rng = text.partition("=")
+    spec, _, name = head.rpartition(":")
+    try:
+        lo, hi = (float(x) for x in rng.split(","))
+    except ValueError:
+        raise InputError(f"--bound '{text}': expected [LAW:]NAME=LO,HI, e.g. 9:alpha=0,50") from None
+    if not sep or not name:
+        raise InputError(f"--bound '{text}': expected [LAW:]NAME=LO,HI, e.g. 9:alpha=0,50")
+    return (spec or None, name, lo, hi)
+
+
 def campaign_settings(args) -> CampaignSettings:
     plugins = None
     if args.plugin:
@@ -67,9 +83,19 @@ def campaign_settings(args) -> CampaignSettings:
         if value is not None and value < 1:
             raise InputError(f"--{name} {value}: must be at least 1")
     settings_for(args.optimizer, args.pop, args.gens, args.stall)
-    return CampaignSettings(specs=parse_specs(args.laws, plugins), runs=args.runs, bounds=args.bounds,
+    specs = parse_specs(args.laws, plugins)
+    overrides = tuple(parse_bound(b) for b in args.bound)
+    for spec, name, _, _ in overrides:
+        targets = [spec] if spec else list(specs)
+        if spec and spec not in specs:
+            raise InputError(f"--bound {spec}:{name}: law {spec} is not among --laws {args.laws}")
+        if not any(name in parse_model(t, plugins).names for t in targets):
+            raise InputError(f"--bound {name}: {'model ' + spec if spec else 'no model'} has no parameter "
+                             f"'{name}' (has: {', '.join(parse_model(targets[0], plugins).names)})")
+    return CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
                             optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
-                            stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin))
+                            stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
+                            bound_overrides=overrides)
 
 
 def unique_names(records):

@@ -240,7 +240,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
                 R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)[0]
                 dR = (R2 - R) / dq
         step = R / dR if dR > 0.0 else math.nan
-        if abs(step) <= 1e-13 * (1.0 + abs(q)):
+        if abs(step) <= 1e-11 * (1.0 + abs(q)):
             break
         qn = q - step
         if not (lo < qn < hi):
@@ -276,7 +276,8 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
     on w for laws 1-5 (w = w0 + travel - h/2 (u0 + u)), backward Euler for
     6-9 (w = w0 + travel - h u; first order, their viscous term C u would
     ring under the trapezoidal rule); travel = integral of xv over the step,
-    xv linear in time; ``substeps`` steps per sample step; hf from W0 at the
+    xv linear in time (x's increment in a step where xv jumps to or from 0:
+    a gap's contact event); ``substeps`` steps per sample step; hf from W0 at the
     start of each step.  The spring starts unstretched and the law at rest.
 
     Returns F [kN] (through the spring), u [mm/s] (the law's velocity) and
@@ -295,24 +296,32 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
         a = law_exponent(code, p)
         w, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0
         xl = x[ri, 0]  # law displacement
-        q = 0.0
+        q, dq = 0.0, 0.0
         for k in range(1, n):
+            # a gap's contact starts or ends inside this step: v jumps, so the
+            # body's travel is taken from its positions instead of its velocity
+            jump = (xv[ri, k - 1] == 0.0) != (xv[ri, k] == 0.0)
             for j in range(substeps):
                 f0, f1 = j / substeps, (j + 1) / substeps
                 va = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f0
                 vb = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f1
                 yb = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f1
-                travel = 0.5 * (va + vb) * h
+                if jump:
+                    travel = (x[ri, k] - x[ri, k - 1]) / substeps
+                else:
+                    travel = 0.5 * (va + vb) * h
                 wb = w + travel - h * (1.0 - th) * u
-                hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw)) if theta[i] != 0.0 else 1.0
-                u1, w1, fo, z1 = series_step(q, a, code, p, yb, wb, h * th, xl, z, h, ks, r[i], hf, Ff[i])
+                hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
+                u1, w1, fo, z1 = series_step(q + dq, a, code, p, yb, wb, h * th, xl, z, h, ks, r[i], hf, Ff[i])
                 # unsoftened law power A law u = F_o u / hf
                 pw1 = fo * u1 / hf
                 W0 += 0.5 * h * (pw + pw1) * J_TO_MJ
                 pw = pw1
                 xl = yb - w1
                 u, w, z = u1, w1, z1
-                q = powsign(u, a) if a != 1.0 else u
+                q1 = powsign(u, a) if a != 1.0 else u
+                dq = q1 - q  # linear extrapolation of the next step's guess
+                q = q1
                 FO[i, k] = fo
             F[i, k] = ks * w
             U[i, k] = u

@@ -28,17 +28,33 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
     return DESettings(popsize=pop or base.popsize, gens=gens or base.gens)
 
 
+def apply_overrides(model, bounds: np.ndarray, overrides: dict) -> np.ndarray:
+    """Replace the bounds of named parameters; unknown names and empty ranges are input errors."""
+    b = bounds.copy()
+    for name, (lo, hi) in overrides.items():
+        if name not in model.names:
+            raise InputError(f"--bound {name}: model {model.spec} has no parameter '{name}' "
+                             f"(has: {', '.join(model.names)})")
+        if not lo < hi:
+            raise InputError(f"--bound {name}={lo:g},{hi:g}: the lower bound must be below the upper")
+        b[model.names.index(name)] = (lo, hi)
+    return b
+
+
 def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
-              seed=0, settings=None, substeps: int = 1, on_generation=None) -> FitResult:
+              seed=0, settings=None, substeps: int = 1, on_generation=None,
+              overrides: dict | None = None) -> FitResult:
     """Fit ``model`` (fvd_bridge.model.Model) to ``record`` by minimising eq. 18.
 
-    ``bounds``: 'auto', 'paper' or an (n_par, 2) array.  The same seed gives
+    ``bounds``: 'auto', 'paper' or an (n_par, 2) array; ``overrides`` maps
+    parameter names to (lower, upper) replacing those bounds.  The same seed gives
     the same result (``seed``: an int or a list of ints, as numpy's default_rng takes).  ``on_generation(gen, best_of)`` reports progress.
     """
     if isinstance(bounds, str):
         mode, b = bounds, model.bounds(bounds, record.scales())
     else:
         mode, b = "custom", np.asarray(bounds, dtype=float)
+    b = apply_overrides(model, b, overrides or {})
     space = Space.of(b, model.log_scale(mode) if mode == "auto" else None)
     settings = settings or settings_for(optimizer)
     rng = np.random.default_rng(seed)

@@ -1,0 +1,100 @@
+"""The calibrate verb end to end on two rig devices: every output exists and parses."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import yaml
+
+from fvd_bridge.rig import Device, Noise, paper, write_series
+
+
+@pytest.fixture(scope="module")
+def two_devices(tmp_path_factory):
+    out = tmp_path_factory.mktemp("rig")
+    devs = [Device(C=45.4, alpha=0.3, name="dev_a"), Device(C=48.0, alpha=0.31, name="dev_b")]
+    paths = write_series(str(out), devs, paper(cycles=3), Noise(force=1.0), seed=1)
+    return paths[:-1]
+
+
+def calibrate(args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", *args],
+                          capture_output=True, text=True, cwd=cwd)
+
+
+def test_calibrate_writes_every_output(two_devices, tmp_path):
+    out = tmp_path / "cal"
+    res = calibrate([*two_devices, "--laws", "1,2,9", "--runs", "2", "--pop", "8", "--gens", "40",
+                     "--out", str(out), "--jobs", "1", "--quiet", "--seed", "4"])
+    assert res.returncode == 0, res.stderr
+    assert "Pareto set" in res.stdout
+    for dev in ("dev_a", "dev_b"):
+        for law in (1, 2, 9):
+            p = yaml.safe_load(open(out / "params" / dev / f"law{law}.yaml"))
+            assert p["schema_version"] == 1 and p["model"] == str(law)
+            assert set(p["parameters"]) == {1: {"C"}, 2: {"C", "alpha"}, 9: {"C", "alpha", "beta"}}[law]
+            assert p["units"] == {"force": "kN", "displacement": "mm", "time": "s"}
+            assert p["settings"]["runs"] == 2 and p["record"]["name"] == dev
+        # law 2 recovers the orifice law of the rig device (noise 1 kN)
+        p2 = yaml.safe_load(open(out / "params" / dev / "law2.yaml"))["parameters"]
+        assert p2["alpha"]["value"] == pytest.approx({"dev_a": 0.3, "dev_b": 0.31}[dev], abs=0.01)
+    rows = list(csv.DictReader(open(out / "table_A7.csv")))
+    assert {(r["model"], r["device"], r["quantity"]) for r in rows} >= {("2", "dev_a", "OF"), ("9", "dev_b", "beta")}
+    rob = list(csv.DictReader(open(out / "robustness.csv")))
+    assert {r["model"] for r in rob} == {"1", "2", "9"}
+    par = list(csv.DictReader(open(out / "pareto.csv")))
+    assert any(r["non_dominated"] == "1" for r in par)
+    summary = json.load(open(out / "summary.json"))
+    assert summary["schema_version"] == 1 and len(summary["runs"]) == 2 * 3 * 2
+    figs = {p.name for p in (out / "figures").iterdir()}
+    assert {"of_bars.png", "pareto.png", "dispersion_law9.png", "loops_dev_a_law2.png"} <= figs
+    assert not list(tmp_path.glob(".*partial*"))
+
+
+def test_same_seed_same_parameters(two_devices, tmp_path):
+    outs = []
+    for k in range(2):
+        out = tmp_path / f"c{k}"
+        res = calibrate([two_devices[0], "--laws", "2", "--runs", "1", "--optimizer", "ga", "--pop", "20",
+                         "--gens", "10", "--out", str(out), "--jobs", "1", "--quiet", "--no-figures"])
+        assert res.returncode == 0, res.stderr
+        outs.append(yaml.safe_load(open(out / "params" / "dev_a" / "law2.yaml"))["parameters"])
+    assert outs[0] == outs[1]
+
+
+def test_warns_on_paper_bounds(two_devices, tmp_path):
+    """The paper's bounds starve law 2 (C <= 2): the fit ends on the bound and says so."""
+    out = tmp_path / "paper"
+    res = calibrate([two_devices[0], "--laws", "2", "--runs", "1", "--bounds", "paper", "--pop", "8",
+                     "--gens", "30", "--out", str(out), "--jobs", "1", "--quiet", "--no-figures"])
+    assert res.returncode == 0, res.stderr
+    assert "C ended on its upper bound (try --bounds auto)" in res.stdout
+    p = yaml.safe_load(open(out / "params" / "dev_a" / "law2.yaml"))
+    assert any("upper bound" in w for w in p["warnings"])
+    assert p["parameters"]["C"]["value"] == pytest.approx(2.0, rel=1e-3)
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--laws", "12"], "unknown law '12'"),
+    (["--laws", "2+nonsense"], "nonsense"),
+    (["--bounds", "tight"], "invalid choice"),
+    (["--bound", "2:zeta=0,1", "--laws", "2"], "has no parameter 'zeta'"),
+    (["--runs", "0"], "--runs 0"),
+])
+def test_bad_options_exit_2(two_devices, tmp_path, args, needle):
+    res = calibrate([two_devices[0], "--out", str(tmp_path / "x"), "--quiet", *args])
+    assert res.returncode == 2
+    assert needle in res.stderr and "Traceback" not in res.stderr
+    assert not (tmp_path / "x").exists()
+
+
+def test_bound_override_is_used(two_devices, tmp_path):
+    out = tmp_path / "ov"
+    res = calibrate([two_devices[0], "--laws", "2", "--runs", "1", "--bound", "2:alpha=0.5,0.9", "--pop", "8",
+                     "--gens", "20", "--out", str(out), "--jobs", "1", "--quiet", "--no-figures"])
+    assert res.returncode == 0, res.stderr
+    p = yaml.safe_load(open(out / "params" / "dev_a" / "law2.yaml"))["parameters"]["alpha"]
+    assert p["bounds"] == [0.5, 0.9] and np.isclose(p["value"], 0.5, atol=1e-3)
