@@ -18,11 +18,12 @@ from .errors import InputError
 VERBS = ("laws", "inspect", "rig", "calibrate", "effects", "diagnose", "demo")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="fvd-bridge", description=__doc__.splitlines()[0])
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """All verbs, or only ``only`` (imports stay light: a verb pulls in what it needs)."""
+    parser = argparse.ArgumentParser(prog="fvd-bridge", description="Calibrate fluid-viscous damper laws on test records, explain their misfit, export them (kN, mm, s).")
     parser.add_argument("--version", action="version", version=f"fvd_bridge {__version__}")
     sub = parser.add_subparsers(dest="verb", metavar="VERB")
-    for verb in VERBS:
+    for verb in ([only] if only else VERBS):
         try:
             module = importlib.import_module(f"fvd_bridge.commands.{verb}")
         except ModuleNotFoundError as exc:
@@ -40,7 +41,9 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    first = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(first if first in VERBS else None)
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
