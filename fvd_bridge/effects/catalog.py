@@ -31,15 +31,18 @@ def _rows(x):
 # ------------------------------------------------------------------ input
 def gap_motion(P, d, v, a, dt):
     """Pin clearance g [mm]: the damper body sees the play (backlash) operator
-    of the imposed displacement d,
+    of the imposed motion,
 
       x = play(d; g/2): x stays while |d - x| < g/2, then follows d at
       distance g/2;  xv = v and xa = a while the pin pushes (in contact),
       0 while it crosses the clearance (free play).
 
-    It starts centred (x = d at t = 0).  A viscous law then carries no force
-    while the pin crosses the clearance after each reversal: a dead band."""
-    return kernels.play_population(_rows(d), _rows(v), _rows(a), np.ascontiguousarray(P[:, 0], dtype=float))
+    It starts centred (x = d at t = 0).  The pin's travel is integrated from
+    v (a reversal between samples is located, kernels.play_population).  A
+    viscous law then carries no force while the pin crosses the clearance
+    after each reversal: a dead band of travel g."""
+    return kernels.play_population(_rows(d), _rows(v), _rows(a), float(dt),
+                                   np.ascontiguousarray(P[:, 0], dtype=float))
 
 
 # ------------------------------------------------------------------ output

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..laws.steps import bouc_wen_step, lugre_step, maxwell_step, powsign, slip_step
+from ..laws.steps import bouc_wen_step, lugre_step, maxwell_step, powsign, slip_step, split_travel
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = 1.0
@@ -22,25 +22,30 @@ J_TO_MJ = 1e-6
 
 # ----------------------------------------------------------------- gap (play)
 @njit(cache=True)
-def play_step(y, d, half):
-    """Play (backlash) operator with half-width ``half`` [mm]: y stays until
-    |d - y| reaches half, then follows d at that distance.  Returns the new
-    y and the contact side (+1 pushed in tension, -1 in compression, 0 free:
-    y did not move in this step)."""
-    if d - y > half:
-        return d - half, 1
-    if y - d > half:
-        return d + half, -1
-    return y, 0
+def play_step(rel, u, half):
+    """Play (backlash) of half-width ``half`` [mm] over a pin travel u [mm]
+    of one sign: rel = pin position relative to the damper body, held in
+    [-half, half]; the body moves only when |rel| reaches half (contact)."""
+    rel += u
+    if rel > half:
+        return half
+    if rel < -half:
+        return -half
+    return rel
 
 
 @njit(parallel=True, cache=True)
-def play_population(d, v, acc, g):
-    """Play operator of d [mm] for each clearance g [mm] (half-width g/2),
-    starting centred (x = d at t = 0, out of contact); d, v, acc (pop or 1,
-    n_t) [mm, mm/s, mm/s^2].  Returns x, xv, xa (pop, n_t): the position,
-    velocity and acceleration of the damper body (velocity and acceleration
-    are the imposed ones in contact, 0 in free play)."""
+def play_population(d, v, acc, dt, g):
+    """Play operator of the imposed motion for each clearance g [mm]
+    (half-width g/2); d, v, acc (pop or 1, n_t) [mm, mm/s, mm/s^2].
+
+    The pin's travel in each sample step is the integral of v (linear
+    between samples), split where v changes sign, so a reversal between two
+    samples is located as the rig does; the body position is anchored to the
+    measured d: x = d - rel.  It starts centred (rel = 0, out of contact).
+    In contact (rel = +-g/2, v pushing on that side) the body moves with d:
+    xv = v, xa = acc; in free play xv = xa = 0.
+    Returns x, xv, xa (pop, n_t) [mm, mm/s, mm/s^2]."""
     pop, n = g.size, d.shape[1]
     x = np.empty((pop, n))
     xv = np.empty((pop, n))
@@ -49,14 +54,15 @@ def play_population(d, v, acc, g):
     for i in prange(pop):
         r = rows[i]
         half = 0.5 * max(g[i], 0.0)
-        y = d[r, 0]
+        rel = 0.0
         for k in range(n):
-            y, side = play_step(y, d[r, k], half)
-            x[i, k] = y
-            # in contact while pushed (y moved and v pushes on that side):
-            # the body moves with d (v, a); else it rests
-            contact = side * v[r, k] > 0.0
-            xv[i, k] = v[r, k] if contact else 0.0
+            if k > 0:
+                u1, u2 = split_travel(v[r, k - 1], v[r, k], dt)
+                rel = play_step(play_step(rel, u1, half), u2, half)
+            x[i, k] = d[r, k] - rel
+            vk = v[r, k]
+            contact = (vk > 0.0 and rel >= half) or (vk < 0.0 and rel <= -half)
+            xv[i, k] = vk if contact else 0.0
             xa[i, k] = acc[r, k] if contact else 0.0
     return x, xv, xa
 
@@ -272,13 +278,14 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
       thermal_population).
 
     x, xv (pop or 1, n_t): displacement [mm] and velocity [mm/s] of the
-    damper body (the record's d, v or the gap's output).  Trapezoidal rule
-    on w for laws 1-5 (w = w0 + travel - h/2 (u0 + u)), backward Euler for
-    6-9 (w = w0 + travel - h u; first order, their viscous term C u would
-    ring under the trapezoidal rule); travel = integral of xv over the step,
-    xv linear in time (x's increment in a step where xv jumps to or from 0:
-    a gap's contact event); ``substeps`` steps per sample step; hf from W0 at the
-    start of each step.  The spring starts unstretched and the law at rest.
+    damper body (the record's d, v or the gap's output).  The spring's
+    stretch w follows dw/dt = xv - u by BDF2 (L-stable, second order:
+    (3 w_k - 4 w_k-1 + w_k-2) / (2 h) = xv_k - u_k), so a stiff spring
+    (Ks large: rigid) does not ring; backward Euler on the first step and on
+    a step where xv jumps to or from 0 (a gap's contact event), with the
+    body's travel from its positions there.  xv is linear in time within a
+    sample step split into ``substeps``; hf from W0 at the start of each
+    step.  The spring starts unstretched and the law at rest.
 
     Returns F [kN] (through the spring), u [mm/s] (the law's velocity) and
     F_o [kN] (the law force with asymmetry and heating), each (pop, n_t)."""
@@ -292,11 +299,11 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
         ri = rows[i]
         p = P[i]
         ks = Ks[i]
-        th = 1.0 if code > 5 else 0.5
         a = law_exponent(code, p)
-        w, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0
+        w, w2, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         xl = x[ri, 0]  # law displacement
         q, dq = 0.0, 0.0
+        first = True
         for k in range(1, n):
             # a gap's contact starts or ends inside this step: v jumps, so the
             # body's travel is taken from its positions instead of its velocity
@@ -306,18 +313,22 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
                 va = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f0
                 vb = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f1
                 yb = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f1
-                if jump:
-                    travel = (x[ri, k] - x[ri, k - 1]) / substeps
+                if jump or first:
+                    # backward Euler: w = w0 + travel - h u
+                    travel = (x[ri, k] - x[ri, k - 1]) / substeps if jump else 0.5 * (va + vb) * h
+                    wb, hth = w + travel, h
                 else:
-                    travel = 0.5 * (va + vb) * h
-                wb = w + travel - h * (1.0 - th) * u
+                    # BDF2: (3 w - 4 w0 + w_-1) / (2 h) = xv - u
+                    wb, hth = (4.0 * w - w2) / 3.0 + (2.0 * h / 3.0) * vb, 2.0 * h / 3.0
+                first = jump  # restart BDF2 after a contact event (w' jumps there)
                 hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
-                u1, w1, fo, z1 = series_step(q + dq, a, code, p, yb, wb, h * th, xl, z, h, ks, r[i], hf, Ff[i])
+                u1, w1, fo, z1 = series_step(q + dq, a, code, p, yb, wb, hth, xl, z, h, ks, r[i], hf, Ff[i])
                 # unsoftened law power A law u = F_o u / hf
                 pw1 = fo * u1 / hf
                 W0 += 0.5 * h * (pw + pw1) * J_TO_MJ
                 pw = pw1
                 xl = yb - w1
+                w2 = w
                 u, w, z = u1, w1, z1
                 q1 = powsign(u, a) if a != 1.0 else u
                 dq = q1 - q  # linear extrapolation of the next step's guess
