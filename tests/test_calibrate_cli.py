@@ -98,3 +98,16 @@ def test_bound_override_is_used(two_devices, tmp_path):
     assert res.returncode == 0, res.stderr
     p = yaml.safe_load(open(out / "params" / "dev_a" / "law2.yaml"))["parameters"]["alpha"]
     assert p["bounds"] == [0.5, 0.9] and np.isclose(p["value"], 0.5, atol=1e-3)
+
+
+def test_yaml_config_sets_options(two_devices, tmp_path):
+    out = tmp_path / "cfg_out"
+    cfg = tmp_path / "cal.yaml"
+    cfg.write_text(f"laws: '2'\nruns: 1\npop: 8\ngens: 20\nout: {out}\njobs: 1\nbound: ['2:alpha=0.5,0.9']\n")
+    res = calibrate([two_devices[0], "--config", str(cfg), "--quiet", "--no-figures"])
+    assert res.returncode == 0, res.stderr
+    p = yaml.safe_load(open(out / "params" / "dev_a" / "law2.yaml"))
+    assert p["settings"]["runs"] == 1 and p["parameters"]["alpha"]["bounds"] == [0.5, 0.9]
+    cfg.write_text("runs: 1\nwibble: 3\n")
+    res = calibrate([two_devices[0], "--config", str(cfg), "--out", str(tmp_path / "y")])
+    assert res.returncode == 2 and "unknown option 'wibble'" in res.stderr

@@ -19,14 +19,17 @@ def add_parser(sub):
     p.add_argument("records", nargs="+", metavar="RECORD", help="CSV or .mat test records, one per device")
     add_campaign_options(p)
     add_record_options(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, _defaults={a.dest: a.default for a in p._actions})
 
 
 def add_campaign_options(p):
     p.add_argument("--laws", default="1-9",
                    help="laws or model specs: '1-9', '2,6,9' or '2+friction,9' (default 1-9)")
     p.add_argument("--runs", type=int, default=20, help="independent runs per device and law (default 20)")
-    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--out", help="output directory (required, here or in --config)")
+    p.add_argument("--config", help="YAML file with any of these options as keys (laws, runs, out, bounds, "
+                                    "bound: [..], seed, optimizer, pop, gens, stall, jobs, plugin: [..]); "
+                                    "options given on the command line win")
     p.add_argument("--bounds", default="auto", choices=BOUND_MODES,
                    help="'auto' (from the record's scales, default) or 'paper' (Table 4)")
     p.add_argument("--bound", action="append", default=[], metavar="[LAW:]NAME=LO,HI",
@@ -72,6 +75,30 @@ def parse_bound(text: str) -> tuple:
     return (spec or None, name, lo, hi)
 
 
+def apply_config(args) -> None:
+    """Fill options left at their defaults from the --config YAML file."""
+    if args.config:
+        import yaml
+
+        try:
+            with open(args.config) as fh:
+                cfg = yaml.safe_load(fh) or {}
+        except (OSError, yaml.YAMLError) as exc:
+            raise InputError(f"{args.config}: cannot read ({str(exc).splitlines()[0]})") from None
+        if not isinstance(cfg, dict):
+            raise InputError(f"{args.config}: expected a mapping of option names to values")
+        for key, value in cfg.items():
+            dest = str(key).replace("-", "_")
+            if dest not in args._defaults or dest in ("records", "config", "func", "help"):
+                raise InputError(f"{args.config}: unknown option '{key}'")
+            if getattr(args, dest) == args._defaults[dest]:
+                if isinstance(args._defaults[dest], list) and not isinstance(value, list):
+                    value = [value]
+                setattr(args, dest, value)
+    if not args.out:
+        raise InputError("--out DIR is required (on the command line or in --config)")
+
+
 def campaign_settings(args) -> CampaignSettings:
     plugins = None
     if args.plugin:
@@ -83,7 +110,7 @@ def campaign_settings(args) -> CampaignSettings:
         if value is not None and value < 1:
             raise InputError(f"--{name} {value}: must be at least 1")
     settings_for(args.optimizer, args.pop, args.gens, args.stall)
-    specs = parse_specs(args.laws, plugins)
+    specs = parse_specs(str(args.laws), plugins)
     overrides = tuple(parse_bound(b) for b in args.bound)
     for spec, name, _, _ in overrides:
         targets = [spec] if spec else list(specs)
@@ -110,6 +137,7 @@ def unique_names(records):
 
 
 def run(args) -> int:
+    apply_config(args)
     cs = campaign_settings(args)
     records = unique_names(read_records(args.records, args))
     for r in records:

@@ -265,6 +265,10 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
     return u, w, Fo, z
 
 
+#: TR-BDF2 split of a step: trapezoidal rule to t + GAMMA h, then BDF2 (L-stable)
+TRBDF_GAMMA = 2.0 - math.sqrt(2.0)
+
+
 @njit(parallel=True, cache=True)
 def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
     """A spring Ks [kN/mm] in series with the internal element (law ``code``
@@ -278,14 +282,16 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
       thermal_population).
 
     x, xv (pop or 1, n_t): displacement [mm] and velocity [mm/s] of the
-    damper body (the record's d, v or the gap's output).  The spring's
-    stretch w follows dw/dt = xv - u by BDF2 (L-stable, second order:
-    (3 w_k - 4 w_k-1 + w_k-2) / (2 h) = xv_k - u_k), so a stiff spring
-    (Ks large: rigid) does not ring; backward Euler on the first step and on
-    a step where xv jumps to or from 0 (a gap's contact event), with the
-    body's travel from its positions there.  xv is linear in time within a
-    sample step split into ``substeps``; hf from W0 at the start of each
-    step.  The spring starts unstretched and the law at rest.
+    damper body (the record's d, v or the gap's output), xv linear in time
+    within a sample step, which is split into ``substeps`` steps h.  The
+    spring's stretch follows dw/dt = xv - u, integrated by TR-BDF2 (Bank et
+    al. 1985: the trapezoidal rule to t + g h, g = 2 - sqrt 2, then BDF2 to
+    t + h; L-stable and second order, so a stiff spring (Ks large: rigid)
+    neither rings nor lags).  A step where xv jumps to or from 0 (a gap's
+    contact event) is one trapezoidal step with the body's travel taken from
+    its positions.  Each stage solves one scalar equation (series_step);
+    hf from W0 at the start of each step.  The spring starts unstretched and
+    the law at rest.
 
     Returns F [kN] (through the spring), u [mm/s] (the law's velocity) and
     F_o [kN] (the law force with asymmetry and heating), each (pop, n_t)."""
@@ -295,40 +301,51 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
     FO = np.zeros((pop, n))
     rows = np.zeros(pop, np.int64) if x.shape[0] == 1 else np.arange(pop)
     h = dt / substeps
+    g = TRBDF_GAMMA
+    c_g = 1.0 / (g * (2.0 - g))
+    c_0 = (1.0 - g) ** 2 / (g * (2.0 - g))
+    c_h = (1.0 - g) / (2.0 - g) * h
     for i in prange(pop):
         ri = rows[i]
         p = P[i]
         ks = Ks[i]
         a = law_exponent(code, p)
-        w, w2, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        w, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0
         xl = x[ri, 0]  # law displacement
         q, dq = 0.0, 0.0
-        first = True
         for k in range(1, n):
-            # a gap's contact starts or ends inside this step: v jumps, so the
-            # body's travel is taken from its positions instead of its velocity
             jump = (xv[ri, k - 1] == 0.0) != (xv[ri, k] == 0.0)
             for j in range(substeps):
                 f0, f1 = j / substeps, (j + 1) / substeps
                 va = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f0
                 vb = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f1
+                ya = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f0
                 yb = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f1
-                if jump or first:
-                    # backward Euler: w = w0 + travel - h u
-                    travel = (x[ri, k] - x[ri, k - 1]) / substeps if jump else 0.5 * (va + vb) * h
-                    wb, hth = w + travel, h
-                else:
-                    # BDF2: (3 w - 4 w0 + w_-1) / (2 h) = xv - u
-                    wb, hth = (4.0 * w - w2) / 3.0 + (2.0 * h / 3.0) * vb, 2.0 * h / 3.0
-                first = jump  # restart BDF2 after a contact event (w' jumps there)
                 hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
-                u1, w1, fo, z1 = series_step(q + dq, a, code, p, yb, wb, hth, xl, z, h, ks, r[i], hf, Ff[i])
-                # unsoftened law power A law u = F_o u / hf
-                pw1 = fo * u1 / hf
-                W0 += 0.5 * h * (pw + pw1) * J_TO_MJ
+                if jump:
+                    # one trapezoidal step on the body's travel from its positions
+                    wb = w + (yb - ya) - 0.5 * h * u
+                    u1, w1, fo, z1 = series_step(q + dq, a, code, p, yb, wb, 0.5 * h, xl, z, h,
+                                                 ks, r[i], hf, Ff[i])
+                    pw1 = fo * u1 / hf
+                    W0 += 0.5 * h * (pw + pw1) * J_TO_MJ
+                else:
+                    # TR stage to t + g h
+                    vg = va + (vb - va) * g
+                    yg = ya + (yb - ya) * g
+                    wb = w + 0.5 * g * h * (va + vg) - 0.5 * g * h * u
+                    ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, g * h,
+                                                  ks, r[i], hf, Ff[i])
+                    pwg = fog * ug / hf
+                    # BDF2 stage to t + h
+                    wb = c_g * wg - c_0 * w + c_h * vb
+                    qg = powsign(ug, a) if a != 1.0 else ug
+                    u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg,
+                                                 (1.0 - g) * h, ks, r[i], hf, Ff[i])
+                    pw1 = fo * u1 / hf
+                    W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
                 pw = pw1
                 xl = yb - w1
-                w2 = w
                 u, w, z = u1, w1, z1
                 q1 = powsign(u, a) if a != 1.0 else u
                 dq = q1 - q  # linear extrapolation of the next step's guess
