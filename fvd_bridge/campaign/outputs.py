@@ -63,10 +63,9 @@ def _num(x):
     return None if math.isnan(x) or math.isinf(x) else x
 
 
-def _param_file(rec, spec, summary_model, cs) -> dict:
+def _param_file(rec, dev_index: int, spec, summary_model, cs) -> dict:
     law = parse_model(spec, _plugins(cs)).law
     best = summary_model["best"][rec.name]
-    dev_index = summary_model["_dev_index"][rec.name]
     return {
         "schema_version": SCHEMA_VERSION,
         "kind": "fvd_bridge.calibration",
@@ -90,21 +89,18 @@ def _param_file(rec, spec, summary_model, cs) -> dict:
     }
 
 
-def write_outputs(out: str, records, results: dict, cs, figures: bool = True, progress=None) -> dict:
+def write_outputs(out: str, records, results: dict, cs, figures: bool = True) -> dict:
     """Write every output into ``out`` (all or nothing); returns the summary."""
     summary = summarize(records, results, cs)
-    devices = summary["devices"]
-    for m in summary["models"].values():
-        m["_dev_index"] = {d: i for i, d in enumerate(devices)}
     with staged_dir(out) as stage:
-        for rec in records:
+        for k, rec in enumerate(records):
             for spec in cs.specs:
                 write_yaml(os.path.join(stage, "params", rec.name, spec_file(spec)),
-                           _param_file(rec, spec, summary["models"][spec], cs))
+                           _param_file(rec, k, spec, summary["models"][spec], cs))
         _tables(stage, summary, cs)
         write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
         if figures:
-            _figures(stage, records, results, summary, cs, progress)
+            _figures(stage, records, summary, cs)
     return summary
 
 
@@ -147,7 +143,7 @@ def _summary_json(records, results, summary, cs) -> dict:
     }
 
 
-def _figures(stage, records, results, summary, cs, progress):
+def _figures(stage, records, summary, cs):
     from ..plots import campaign as plots
 
     fig_dir = os.path.join(stage, "figures")

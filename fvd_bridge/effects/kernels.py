@@ -287,9 +287,9 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
     spring's stretch follows dw/dt = xv - u, integrated by TR-BDF2 (Bank et
     al. 1985: the trapezoidal rule to t + g h, g = 2 - sqrt 2, then BDF2 to
     t + h; L-stable and second order, so a stiff spring (Ks large: rigid)
-    neither rings nor lags).  A step where xv jumps to or from 0 (a gap's
-    contact event) is one trapezoidal step with the body's travel taken from
-    its positions.  Each stage solves one scalar equation (series_step);
+    neither rings nor lags).  In a step where xv jumps to or from 0 (a gap's
+    contact event) the velocity profile is scaled to carry the body's travel
+    between its positions.  Each stage solves one scalar equation (series_step);
     hf from W0 at the start of each step.  The spring starts unstretched and
     the law at rest.
 
@@ -323,27 +323,25 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
                 yb = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f1
                 hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
                 if jump:
-                    # one trapezoidal step on the body's travel from its positions
-                    wb = w + (yb - ya) - 0.5 * h * u
-                    u1, w1, fo, z1 = series_step(q + dq, a, code, p, yb, wb, 0.5 * h, xl, z, h,
-                                                 ks, r[i], hf, Ff[i])
-                    pw1 = fo * u1 / hf
-                    W0 += 0.5 * h * (pw + pw1) * J_TO_MJ
-                else:
-                    # TR stage to t + g h
-                    vg = va + (vb - va) * g
-                    yg = ya + (yb - ya) * g
-                    wb = w + 0.5 * g * h * (va + vg) - 0.5 * g * h * u
-                    ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, g * h,
-                                                  ks, r[i], hf, Ff[i])
-                    pwg = fog * ug / hf
-                    # BDF2 stage to t + h
-                    wb = c_g * wg - c_0 * w + c_h * vb
-                    qg = powsign(ug, a) if a != 1.0 else ug
-                    u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg,
-                                                 (1.0 - g) * h, ks, r[i], hf, Ff[i])
-                    pw1 = fo * u1 / hf
-                    W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
+                    # contact starts or ends inside the step: scale the
+                    # velocity profile so that it carries the body's travel
+                    lin = 0.5 * h * (va + vb)
+                    c = min(max((yb - ya) / lin, 0.0), 4.0) if lin != 0.0 else 1.0
+                    va, vb = c * va, c * vb
+                # TR stage to t + g h
+                vg = va + (vb - va) * g
+                yg = ya + (yb - ya) * g
+                wb = w + 0.5 * g * h * (va + vg) - 0.5 * g * h * u
+                ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, g * h,
+                                              ks, r[i], hf, Ff[i])
+                pwg = fog * ug / hf
+                # BDF2 stage to t + h
+                wb = c_g * wg - c_0 * w + c_h * vb
+                qg = powsign(ug, a) if a != 1.0 else ug
+                u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg,
+                                             (1.0 - g) * h, ks, r[i], hf, Ff[i])
+                pw1 = fo * u1 / hf
+                W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
                 pw = pw1
                 xl = yb - w1
                 u, w, z = u1, w1, z1

@@ -14,7 +14,7 @@ from .save import save  # noqa: E402
 
 def loops(record, F_model: np.ndarray, title: str, path: str) -> str:
     """Measured vs model: F-d and F-v loops and F-t history."""
-    fig, ax = plt.subplots(1, 3, figsize=(14, 4))
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4), layout="constrained")
     for a, x, lab in ((ax[0], record.d, "displacement d [mm]"), (ax[1], record.v, "velocity v [mm/s]")):
         a.plot(x, record.F, ".", ms=1.5, color="tab:blue", label="measured")
         a.plot(x, F_model, "-", lw=0.8, color="tab:red", label="model")
