@@ -111,3 +111,27 @@ def test_yaml_config_sets_options(two_devices, tmp_path):
     cfg.write_text("runs: 1\nwibble: 3\n")
     res = calibrate([two_devices[0], "--config", str(cfg), "--out", str(tmp_path / "y")])
     assert res.returncode == 2 and "unknown option 'wibble'" in res.stderr
+
+
+def test_calibration_file_reproduces_its_of(two_devices, tmp_path):
+    """What the exporters read: the parameter file alone reproduces the fitted OF."""
+    from fvd_bridge.calibration import read_calibration
+    from fvd_bridge.errors import InputError
+    from fvd_bridge.fit import objective
+    from fvd_bridge.records import read_record
+
+    out = tmp_path / "c"
+    res = calibrate([two_devices[0], "--laws", "9", "--runs", "1", "--pop", "8", "--gens", "30",
+                     "--out", str(out), "--jobs", "1", "--quiet", "--no-figures"])
+    assert res.returncode == 0, res.stderr
+    path = out / "params" / "dev_a" / "law9.yaml"
+    cal = read_calibration(str(path))
+    rec = read_record(two_devices[0])
+    F = cal.model.force(rec, cal.params[None, :])[0]
+    assert objective(rec.F, F, rec.t) == pytest.approx(cal.of, rel=1e-9)
+    data = yaml.safe_load(open(path))
+    data["parameters"]["alpha"]["unit"] = "1/m"
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(data))
+    with pytest.raises(InputError, match="parameters.alpha.unit"):
+        read_calibration(str(bad))
