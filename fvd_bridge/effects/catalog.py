@@ -18,6 +18,9 @@ from .base import Effect
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = kernels.FRICTION_V_F
+#: series stiffness [kN/mm] at and above which the connection is rigid (the
+#: model without the spring; far above any real oil column, rod or frame)
+KS_RIGID = 1e6
 
 
 def _col(P, j):
@@ -43,6 +46,27 @@ def gap_motion(P, d, v, a, dt):
     after each reversal: a dead band of travel g."""
     return kernels.play_population(_rows(d), _rows(v), _rows(a), float(dt),
                                    np.ascontiguousarray(P[:, 0], dtype=float))
+
+
+# ------------------------------------------------------------------ series
+def series_force(P, law_number, PL, x, xv, xa, dt, r, theta, Ff, substeps=1):
+    """Fluid compressibility and connection flexibility, Ks [kN/mm]: a spring
+    in series with the internal element (the law with asymmetry r, heating
+    theta and friction Ff; zeros when those effects are absent), a Maxwell
+    model for any law 1-9:
+
+      F = Ks (x - x_o) = element(x_o, dx_o/dt),
+
+    x, xv, xa the damper body's motion (d, v, a, or the gap's output), x_o
+    the law's own displacement.  Solved per step by TR-BDF2 with one scalar
+    root-find per stage (kernels.series_population).  Returns the force
+    through the spring [kN], the law's velocity [mm/s] and the law's force
+    with asymmetry and heating [kN], each (pop, n_t).  Ks >= KS_RIGID is a
+    rigid connection (handled by the composition: the model without it)."""
+    c = np.ascontiguousarray
+    return kernels.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float), c(xa, dtype=float),
+                                     float(dt), c(P[:, 0], dtype=float), c(PL, dtype=float), c(r, dtype=float),
+                                     c(theta, dtype=float), c(Ff, dtype=float), int(substeps))
 
 
 # ------------------------------------------------------------------ output
@@ -109,11 +133,11 @@ BUILTIN = (
         symptom="force stays near zero just after each reversal (a plateau in the loop)",
         cause="the connection has play"),
     Effect(
-        name="series_stiffness", stage="series", order=20, function=None, none=(math.inf,),
-        parameters=(Parameter("Ks", "kN/mm", (10.0, 1000.0),
-                              lambda s: (0.3 * _stiff(s), 3000.0 * _stiff(s)),
-                              "spring in series with the law (oil, seals, rod, frame); "
-                              "the upper bound is rigid", log=True),),
+        name="series_stiffness", stage="series", order=20, function=series_force, none=(math.inf,),
+        parameters=(Parameter("Ks", "kN/mm", (10.0, KS_RIGID),
+                              lambda s: (min(0.3 * _stiff(s), 1e-3 * KS_RIGID), KS_RIGID),
+                              f"spring in series with the law (oil, seals, rod, frame); "
+                              f"Ks >= {KS_RIGID:.0e} is a rigid connection", log=True),),
         equation="F = Ks (y - x) = element(x, dx/dt), y = d (or the gap's output)",
         summary="fluid compressibility / series flexibility: a spring in series with the orifice "
                 "(Maxwell model)",

@@ -21,7 +21,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from . import kernels
 
 STAGE_RANK = {"input": 0, "series": 1, "output": 2, "parallel": 3}
 
@@ -52,34 +51,77 @@ def _checked(e, F, pop: int, n: int) -> np.ndarray:
     return out
 
 
-def law_force(model, x, xv, dt, PL, substeps) -> np.ndarray:
+#: laws whose force depends on the velocity only and vanishes at v = 0
+VELOCITY_LAWS = (1, 2)
+
+
+def law_force(model, x, xv, dt, PL, substeps, record=None) -> np.ndarray:
     """The law on per-row (pop, n_t) or shared (1, n_t) kinematics [kN]."""
     if x.shape[0] == 1:
         return model.law.force(x[0], xv[0], dt, PL, substeps)
-    import numba
-
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)  # one compiled call per row: no thread start-up each time
-    try:
+    if record is not None and model.law.number in VELOCITY_LAWS:
+        moving = xv != 0.0
+        if np.array_equal(xv[moving], np.broadcast_to(record.v, xv.shape)[moving]):
+            # each row's velocity is the record's or 0 (a gap): mask the shared evaluation
+            return model.law.force(record.d, record.v, dt, PL, substeps) * moving
+    with _single_thread():  # one compiled call per row: no thread start-up each time
         return np.vstack([model.law.force(x[i], xv[i], dt, PL[i:i + 1], substeps)
                           for i in range(PL.shape[0])])
-    finally:
-        numba.set_num_threads(threads)
 
 
-def _series(model, e, x, xv, dt, PL, PE, pop, substeps):
+def _series(model, e, x, xv, xa, dt, PL, PE, pop, substeps):
+    """The series stage (catalog.series_force) with the built-in element effects inside."""
     slots = {"r": np.zeros(pop), "theta": np.zeros(pop), "Ff": np.zeros(pop)}
     inside = set()
     for other in model.effects:
         if other.series_slot:
-            slots[other.series_slot] = np.ascontiguousarray(PE[other.name][:, 0], dtype=float)
+            slots[other.series_slot] = PE[other.name][:, 0]
             inside.add(other.name)
-    F, U, FO = kernels.series_population(
-        model.law.number, np.ascontiguousarray(np.broadcast_to(x, (x.shape[0], x.shape[1])), dtype=float),
-        np.ascontiguousarray(xv, dtype=float), float(dt),
-        np.ascontiguousarray(PE[e.name][:, 0], dtype=float), np.ascontiguousarray(PL, dtype=float),
-        slots["r"], slots["theta"], slots["Ff"], int(substeps))
+    shape = (pop if x.shape[0] > 1 else 1, x.shape[1])
+    F, U, FO = e.function(PE[e.name], model.law.number, PL, np.broadcast_to(x, shape),
+                          np.broadcast_to(xv, shape), np.broadcast_to(xa, shape), dt,
+                          slots["r"], slots["theta"], slots["Ff"], substeps)
     return F, U, FO, inside
+
+
+def _rigid_rows(model, record, P):
+    """Rows whose series stiffness is at least KS_RIGID (the upper end of its
+    range): a rigid connection, computed without the spring (exactly the
+    model without series_stiffness, so the models are nested)."""
+    from .catalog import KS_RIGID
+
+    j = len(model.law.parameters)
+    for e in model.effects:
+        if e.stage == "series":
+            return P[:, j] >= KS_RIGID * (1.0 - 1e-12)
+        j += len(e.parameters)
+    return None
+
+
+def _split_rigid(model, record, P, rigid, substeps, parts):
+    from ..model import Model
+
+    keep = [e for e in model.effects if e.stage != "series"]
+    cols = [k for k, name in enumerate(model.names) if not any(
+        name == f"{e.name}.{p.name}" for e in model.effects if e.stage == "series" for p in e.parameters)]
+    rigid_model = Model(model.law, tuple(keep))
+    pop, n = P.shape[0], record.n
+    F = np.empty((pop, n))
+    out_parts: dict = {}
+    for rows, m, PP in ((np.flatnonzero(rigid), rigid_model, P[rigid][:, cols]),
+                        (np.flatnonzero(~rigid), model, P[~rigid])):
+        if rows.size == 0:
+            continue
+        if m.effects:
+            res = composed_force(m, record, PP, substeps, parts)
+        else:
+            res = m.law.force(record.d, record.v, record.dt, PP, substeps)
+            res = (res, {"law": res.copy()}) if parts else res
+        Fi, pi = res if parts else (res, {})
+        F[rows] = Fi
+        for key, val in pi.items():
+            out_parts.setdefault(key, np.zeros((pop, n)))[rows] = val
+    return (F, out_parts) if parts else F
 
 
 def composed_force(model, record, P: np.ndarray, substeps: int = 1, parts: bool = False):
@@ -92,7 +134,33 @@ def composed_force(model, record, P: np.ndarray, substeps: int = 1, parts: bool 
     contributions sum to F.
     """
     P = np.atleast_2d(np.asarray(P, dtype=float))
+    if P.shape[0] == 1 and not parts:
+        with _single_thread():  # one row (a polish step): no thread start-up per kernel
+            return _composed(model, record, P, substeps, parts)
+    return _composed(model, record, P, substeps, parts)
+
+
+class _single_thread:
+    """Run numba kernels on one thread inside the block."""
+
+    def __enter__(self):
+        import numba
+
+        self.threads = numba.get_num_threads()
+        numba.set_num_threads(1)
+
+    def __exit__(self, *exc):
+        import numba
+
+        numba.set_num_threads(self.threads)
+        return False
+
+
+def _composed(model, record, P, substeps, parts):
     pop, n = P.shape[0], record.n
+    rigid = _rigid_rows(model, record, P)
+    if rigid is not None and rigid.any():
+        return _split_rigid(model, record, P, rigid, substeps, parts)
     PL, PE = split_params(model, P)
     dt = record.dt
     x, xv, xa = record.d[None, :], record.v[None, :], record.a[None, :]
@@ -106,7 +174,7 @@ def composed_force(model, record, P: np.ndarray, substeps: int = 1, parts: bool 
     series = [e for e in effects if e.stage == "series"]
     inside: set = set()
     if series:
-        F, u, FO, inside = _series(model, series[0], x, xv, dt, PL, PE, pop, substeps)
+        F, u, FO, inside = _series(model, series[0], x, xv, xa, dt, PL, PE, pop, substeps)
         if parts:
             friction = F - FO
             parts_out["law"] = FO
@@ -115,10 +183,11 @@ def composed_force(model, record, P: np.ndarray, substeps: int = 1, parts: bool 
                     parts_out[e.name] = friction
             if "Ff" not in {e.series_slot for e in effects}:
                 parts_out["law"] = F.copy()
-        xl = x  # user output effects see the body's motion
-        ul = u
+        # a user's output effect sees the law's own motion behind the spring
+        Ks = np.asarray(PE[series[0].name][:, 0:1], dtype=float)
+        xl, ul = np.asarray(x) - F / Ks, u
     else:
-        F = law_force(model, np.asarray(x), np.asarray(xv), dt, PL, substeps)
+        F = law_force(model, np.asarray(x), np.asarray(xv), dt, PL, substeps, record)
         if parts:
             parts_out["law"] = F.copy()
         xl, ul = x, xv

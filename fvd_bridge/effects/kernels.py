@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..laws.steps import bouc_wen_step, lugre_step, maxwell_step, powsign, slip_step, split_travel
+from ..laws.steps import bouc_wen_step, lugre_step, powsign, slip_step, split_travel
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = 1.0
@@ -133,7 +133,39 @@ def hysteretic_state(code, z0, u, p, h):
         q = min(math.exp(math.log(K / C) / alpha), 1e150)
     else:
         q = 1e150 if C <= 0.0 else 0.0
-    return maxwell_step(z0, u, h, q, beta / alpha)
+    return maxwell_be_step(z0, u, h, q, beta / alpha)
+
+
+@njit(cache=True)
+def maxwell_be_step(z, u, h, q, p):
+    """Law 7's spring deformation over a step h [s] by backward Euler (L-stable:
+    inside a series spring the law's own dashpot may be arbitrarily stiff):
+
+      dz/dt = v - q sign(z)|z|^p  ->  x + h q phi(x) = z + u,  phi(x) = sign(x)|x|^p,
+
+    u the travel [mm]; the left side increases in x, the root lies between 0
+    and r = z + u (safeguarded Newton)."""
+    c = h * q
+    r = z + u
+    if r == 0.0:
+        return 0.0
+    lo, hi = (0.0, r) if r > 0.0 else (r, 0.0)
+    x = z if lo < z < hi else 0.5 * (lo + hi)
+    for _ in range(100):
+        ax = abs(x)
+        f = x + c * powsign(x, p) - r
+        if f > 0.0:
+            hi = x
+        else:
+            lo = x
+        dfdx = 1.0 + (c * p * ax ** (p - 1.0) if ax > 0.0 else 0.0)
+        xn = x - f / dfdx
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        if abs(xn - x) <= 1e-13 * (1.0 + abs(xn)):
+            return xn
+        x = xn
+    return x
 
 
 @njit(cache=True)
@@ -222,17 +254,19 @@ def series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
 
 @njit(cache=True)
 def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
-    """Solve R(q) = 0 (series_residual) for one step: safeguarded Newton
-    (secant slopes for laws 6-9) inside the bracket the signs of R build up,
-    expanding geometrically until both sides are known.
+    """Solve R(q) = 0 (series_residual, R increasing) for one step.
+
+    Newton from ``q_guess`` (secant slopes for laws 6-9); until the signs of
+    R bracket the root a step goes downhill by at most ``scale``, which grows
+    geometrically; inside the bracket a step that leaves it is a bisection.
     Returns u, w, F_o, z at the root."""
     lo, hi = -math.inf, math.inf
     q = q_guess
     R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
     q_prev, R_prev = math.nan, math.nan
-    scale = abs(q) * 0.5 + 1e-3
+    scale = 0.5 * abs(q) + 1e-3
     for _ in range(200):
-        if R == 0.0:
+        if R == 0.0 or not math.isfinite(R):
             break
         if R < 0.0:
             lo = q
@@ -246,19 +280,21 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
                 R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)[0]
                 dR = (R2 - R) / dq
         step = R / dR if dR > 0.0 else math.nan
-        if abs(step) <= 1e-11 * (1.0 + abs(q)):
+        if abs(step) <= 1e-9 * (1.0 + abs(q)):
             break
         qn = q - step
-        if not (lo < qn < hi):
-            if math.isinf(lo) or math.isinf(hi):
+        if math.isinf(lo) or math.isinf(hi):
+            # open bracket: go downhill, at most ``scale`` (growing) at a time
+            down = 1.0 if R < 0.0 else -1.0
+            if not (qn == qn and (qn - q) * down > 0.0 and abs(qn - q) <= scale):
+                qn = q + down * scale
                 scale *= 4.0
-                qn = q + scale if R < 0.0 else q - scale
-            else:
-                qn = 0.5 * (lo + hi)
-                if hi - lo <= 1e-14 * (1.0 + abs(qn)):
-                    q = qn
-                    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
-                    break
+        elif not (lo < qn < hi):
+            qn = 0.5 * (lo + hi)
+            if hi - lo <= 1e-14 * (1.0 + abs(qn)):
+                q = qn
+                R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+                break
         q_prev, R_prev = q, R
         q = qn
         R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
@@ -269,8 +305,20 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
 TRBDF_GAMMA = 2.0 - math.sqrt(2.0)
 
 
+@njit(cache=True)
+def hermite_travel(s, h, v0, v1, a0, a1):
+    """Travel [mm] from the start of a sample step h [s] to the fraction s of
+    it, with the velocity the cubic Hermite interpolant of v0, v1 [mm/s] and
+    a0, a1 [mm/s^2] at the ends (exact for cubic v)."""
+    s2 = s * s
+    s3 = s2 * s
+    s4 = s3 * s
+    return h * ((0.5 * s4 - s3 + s) * v0 + (0.25 * s4 - 2.0 * s3 / 3.0 + 0.5 * s2) * h * a0
+                + (-0.5 * s4 + s3) * v1 + (0.25 * s4 - s3 / 3.0) * h * a1)
+
+
 @njit(parallel=True, cache=True)
-def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
+def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
     """A spring Ks [kN/mm] in series with the internal element (law ``code``
     1-9 with parameters P[i], asymmetry r [-], heating theta [1/MJ], friction
     Ff [kN]), for each row i:
@@ -281,17 +329,23 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
       (hf = exp(-theta E), E the energy the law has dissipated, as in
       thermal_population).
 
-    x, xv (pop or 1, n_t): displacement [mm] and velocity [mm/s] of the
-    damper body (the record's d, v or the gap's output), xv linear in time
-    within a sample step, which is split into ``substeps`` steps h.  The
-    spring's stretch follows dw/dt = xv - u, integrated by TR-BDF2 (Bank et
-    al. 1985: the trapezoidal rule to t + g h, g = 2 - sqrt 2, then BDF2 to
-    t + h; L-stable and second order, so a stiff spring (Ks large: rigid)
-    neither rings nor lags).  In a step where xv jumps to or from 0 (a gap's
-    contact event) the velocity profile is scaled to carry the body's travel
-    between its positions.  Each stage solves one scalar equation (series_step);
-    hf from W0 at the start of each step.  The spring starts unstretched and
-    the law at rest.
+    x, xv, xa (pop or 1, n_t): displacement [mm], velocity [mm/s] and
+    acceleration [mm/s^2] of the damper body (the record's d, v, a or the
+    gap's output).  Each sample step is split into ``substeps`` steps h.
+    The spring's stretch w = psi - W, psi = integral of xv (the body's
+    travel, exact for the cubic Hermite interpolant of xv and xa), and
+    dW/dt = u by TR-BDF2 (Bank et al. 1985: the trapezoidal rule to t + g h,
+    g = 2 - sqrt 2, then BDF2 to t + h; L-stable and second order, so a
+    stiff spring (Ks large: rigid) neither rings nor lags):
+
+      w_g = w_0 + psi(0 -> g h) - g h/2 (u_0 + u_g)
+      w_1 = c_g w_g - c_0 w_0 + psi(0 -> h) - c_g psi(0 -> g h) - c_h u_1,
+      c_g = 1/(g(2-g)), c_0 = (1-g)^2/(g(2-g)), c_h = (1-g)/(2-g) h.
+
+    In a sample step where xv jumps to or from 0 (a gap's contact event) the
+    travel is the body's position increment, spread linearly in time.  Each
+    stage solves one scalar equation (series_step); hf from W0 at the start
+    of each step.  The spring starts unstretched and the law at rest.
 
     Returns F [kN] (through the spring), u [mm/s] (the law's velocity) and
     F_o [kN] (the law force with asymmetry and heating), each (pop, n_t)."""
@@ -314,29 +368,32 @@ def series_population(code, x, xv, dt, Ks, P, r, theta, Ff, substeps):
         xl = x[ri, 0]  # law displacement
         q, dq = 0.0, 0.0
         for k in range(1, n):
-            jump = (xv[ri, k - 1] == 0.0) != (xv[ri, k] == 0.0)
+            v0, v1 = xv[ri, k - 1], xv[ri, k]
+            a0, a1 = xa[ri, k - 1], xa[ri, k]
+            y0, y1 = x[ri, k - 1], x[ri, k]
+            jump = (v0 == 0.0) != (v1 == 0.0)
             for j in range(substeps):
                 f0, f1 = j / substeps, (j + 1) / substeps
-                va = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f0
-                vb = xv[ri, k - 1] + (xv[ri, k] - xv[ri, k - 1]) * f1
-                ya = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f0
-                yb = x[ri, k - 1] + (x[ri, k] - x[ri, k - 1]) * f1
-                hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
+                fg = f0 + g * (f1 - f0)
                 if jump:
-                    # contact starts or ends inside the step: scale the
-                    # velocity profile so that it carries the body's travel
-                    lin = 0.5 * h * (va + vb)
-                    c = min(max((yb - ya) / lin, 0.0), 4.0) if lin != 0.0 else 1.0
-                    va, vb = c * va, c * vb
+                    ya = y0 + (y1 - y0) * f0
+                    tr_g = (y1 - y0) * (fg - f0)
+                    tr_h = (y1 - y0) * (f1 - f0)
+                else:
+                    base = hermite_travel(f0, dt, v0, v1, a0, a1)
+                    ya = y0 + base if j > 0 else y0
+                    tr_g = hermite_travel(fg, dt, v0, v1, a0, a1) - base
+                    tr_h = hermite_travel(f1, dt, v0, v1, a0, a1) - base
+                yg = ya + tr_g
+                yb = y0 + (y1 - y0) * f1 if (jump or j == substeps - 1) else ya + tr_h
+                hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
                 # TR stage to t + g h
-                vg = va + (vb - va) * g
-                yg = ya + (yb - ya) * g
-                wb = w + 0.5 * g * h * (va + vg) - 0.5 * g * h * u
+                wb = w + tr_g - 0.5 * g * h * u
                 ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, g * h,
                                               ks, r[i], hf, Ff[i])
                 pwg = fog * ug / hf
                 # BDF2 stage to t + h
-                wb = c_g * wg - c_0 * w + c_h * vb
+                wb = c_g * wg - c_0 * w + tr_h - c_g * tr_g
                 qg = powsign(ug, a) if a != 1.0 else ug
                 u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg,
                                              (1.0 - g) * h, ks, r[i], hf, Ff[i])

@@ -95,19 +95,34 @@ def check_effect(e, where: str) -> Effect:
     if not np.allclose(none, np.asarray(e.none, dtype=float), equal_nan=False) and np.all(np.isfinite(e.none)):
         raise InputError(f"{label}: the 'no effect' values {tuple(e.none)} lie outside the bounds "
                          f"(models must be nested)")
-    from ..laws import get_law
-    from ..model import Model
-
-    model = Model(get_law(2), (e,))
-    P = np.vstack([np.r_[45.0, 0.3, none], np.r_[45.0, 0.3, b.mean(axis=1)]])
+    # call the function itself on plain arrays (no compiled law kernels here:
+    # a parent process that ran numba's thread pool must not fork workers)
+    P = np.vstack([none, b.mean(axis=1)])
+    n = rec.n
+    x, xv, xa = rec.d[None, :], rec.v[None, :], rec.a[None, :]
     try:
-        F = model.force(rec, P)
-    except InputError as exc:
-        raise InputError(f"{where}: {exc}") from None
+        if e.stage == "input":
+            out = e.function(P, x, xv, xa, rec.dt)
+            if not isinstance(out, tuple) or len(out) != 3:
+                raise InputError(f"{label}: an input effect returns (x, xv, xa)")
+            arrays = out
+        elif e.stage == "output":
+            arrays = (e.function(P, np.vstack([rec.F, rec.F]), x, xv, rec.dt),)
+        else:
+            arrays = (e.function(P, rec.t, x, xv, xa),)
+    except InputError:
+        raise
     except Exception as exc:
         raise InputError(f"{label}: failed on a test record ({type(exc).__name__}: {exc})") from None
-    if F.shape != (2, rec.n) or not np.all(np.isfinite(F)):
-        raise InputError(f"{label}: returned non-finite forces on a test record")
+    for arr in arrays:
+        try:
+            arr = np.broadcast_to(np.asarray(arr, dtype=float), (2, n))
+        except (ValueError, TypeError):
+            shape = getattr(arr, "shape", type(arr).__name__)
+            raise InputError(f"{label}: returned shape {shape}, expected (population, {n}) "
+                             f"or broadcastable to it") from None
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{label}: returned non-finite values on a test record")
     return e
 
 

@@ -1,0 +1,114 @@
+"""``fvd-bridge diagnose``: where a model fails, which effect is missing, the ladder."""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+
+from ..errors import InputError
+from .common import add_record_options, read_records
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "diagnose", help="explain the misfit: where a model fails and which physical effect is missing",
+        description="Fit a model (LAW or LAW+EFFECT+...) to one record, show where it fails (figures and "
+                    "numbers), refit it with every effect it lacks and rank them, and compare what is "
+                    "left with the noise floor of the record itself. --ladder adds the best effect and "
+                    "repeats while it helps beyond noise.")
+    p.add_argument("record", metavar="RECORD", help="CSV or .mat test record")
+    p.add_argument("--law", required=True, metavar="SPEC",
+                   help="model to diagnose: a law 1-9, optionally with effects, e.g. 2 or 2+friction")
+    p.add_argument("--ladder", action="store_true",
+                   help="add the best effect, refit, repeat while it helps beyond noise; print the ladder")
+    p.add_argument("--max-rungs", type=int, metavar="N", help="with --ladder: add at most N effects")
+    p.add_argument("--json", action="store_true",
+                   help="print a JSON report on stdout: {model, of, noise_floor_of, candidates: "
+                        "[{effect, of, improvement}] best first, ...}")
+    p.add_argument("--out", default=os.path.join("results", "diagnose"), metavar="DIR",
+                   help="directory for the figures and the JSON report (default results/diagnose)")
+    p.add_argument("--no-figures", action="store_true", help="write no figures")
+    p.add_argument("--seed", type=int, default=0, help="seed of every fit (default 0)")
+    p.add_argument("--pop", type=int, help="DE population per parameter (diagnose default 8)")
+    p.add_argument("--gens", type=int, help="maximum DE generations (diagnose default 120)")
+    p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
+                   help="Python file defining extra effects (ranked like the built-in ones)")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_record_options(p)
+    p.set_defaults(func=run)
+
+
+def _safe(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
+
+
+def run(args) -> int:
+    from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
+    from ..model import parse_model
+
+    for name in ("pop", "gens", "max_rungs"):
+        value = getattr(args, name)
+        if value is not None and value < 1:
+            raise InputError(f"--{name.replace('_', '-')} {value}: must be at least 1")
+    plugins = None
+    if args.plugin:
+        from ..effects.plugins import load_plugins
+
+        plugins = load_plugins(args.plugin)
+    spec = parse_model(args.law, plugins).spec  # refuse a bad spec before reading anything
+    settings = diagnose_settings(args.pop, args.gens)
+    record = read_records([args.record], args)[0]
+    for w in record.warnings:
+        print(f"warning: {w}", file=sys.stderr)
+
+    def progress(msg):
+        if not args.quiet:
+            print(msg, file=sys.stderr, flush=True)
+
+    lad = None
+    if args.ladder:
+        lad = climb(record, spec, plugins, args.seed, settings, args.max_rungs, progress)
+        diag = lad.final
+    else:
+        diag = diagnose(record, spec, plugins, args.seed, settings, progress=progress)
+    report = diag.as_dict()
+    report["settings"] = {"seed": args.seed, "optimizer": "de", **vars(settings)}
+    if lad is not None:
+        report["ladder"] = lad.as_dict()
+    files = _write(args, record, diag, lad, report)
+    if args.json:
+        print(json.dumps(report, indent=1))
+    else:
+        if lad is not None:
+            print(format_diagnosis(lad.diagnoses[0], args.record))
+            print()
+            print(format_ladder(lad))
+        else:
+            print(format_diagnosis(diag, args.record))
+        if files:
+            print(f"\nwrote {', '.join(files)}")
+    return 0
+
+
+def _write(args, record, diag, lad, report) -> list[str]:
+    """Figures and the JSON report, all or nothing (a staging directory)."""
+    from ..io.staging import staged_dir
+
+    base = _safe(record.name)
+    written = []
+    with staged_dir(args.out) as stage:
+        with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:
+            json.dump(report, fh, indent=1)
+        written.append(f"{base}_diagnose.json")
+        if not args.no_figures:
+            from ..plots import diagnose as figs
+
+            first = lad.diagnoses[0] if lad is not None else diag
+            figs.where(record, first, os.path.join(stage, f"{base}_where.png"))
+            written.append(f"{base}_where.png")
+            if lad is not None:
+                figs.where(record, diag, os.path.join(stage, f"{base}_where_final.png"))
+                figs.ladder(lad, os.path.join(stage, f"{base}_ladder.png"))
+                written += [f"{base}_where_final.png", f"{base}_ladder.png"]
+    return [os.path.join(args.out, f) for f in written]

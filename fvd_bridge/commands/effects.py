@@ -1,0 +1,44 @@
+"""``fvd-bridge effects``: the physical effects that compose with any law."""
+
+from __future__ import annotations
+
+from ..effects import all_effects
+from ..effects.compose import ordered
+
+EXAMPLE = {"F": 300.0, "v": 500.0, "d": 40.0}
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "effects", help="list the physical effects that combine with any law (spec LAW+EFFECT+...)",
+        description="Physical effects that compose with any of the nine laws: write a model as "
+                    "LAW+EFFECT+EFFECT, e.g. 2+friction+series_stiffness (parameters 'effect.param'). "
+                    "Composition order: gap -> series spring -> law -> asymmetry, heating -> "
+                    "+ friction, parallel stiffness, inertia.")
+    p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
+                   help="Python file defining extra effects (EFFECTS list; see examples/custom_effect.py)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    plugins = None
+    if args.plugin:
+        from ..effects.plugins import load_plugins
+
+        plugins = load_plugins(args.plugin)
+    effects = ordered(all_effects(plugins).values())
+    print("effects in composition order; use as LAW+EFFECT, e.g. 2+friction+series_stiffness")
+    print("bounds shown for a record with peak F 300 kN, v 500 mm/s, d 40 mm; "
+          "'off' = the value that switches the effect off\n")
+    for e in effects:
+        src = "" if e.source == "built-in" else f"  [plugin {e.source}]"
+        print(f"{e.name} ({e.stage}){src}")
+        print(f"  {e.summary}")
+        print(f"  {e.equation}")
+        for p, none, (lo, hi) in zip(e.parameters, e.none, e.bounds(EXAMPLE)):
+            off = f"{min(max(none, lo), hi):.4g}" + (" (rigid)" if none == float("inf") else "")
+            print(f"  {e.name}.{p.name:<6} [{p.unit}]  bounds [{lo:.4g}, {hi:.4g}]{' log' if p.log else ''}"
+                  f"  off {off}  {p.description}")
+        print(f"  looks like: {e.symptom}")
+        print()
+    return 0

@@ -1,0 +1,165 @@
+"""diagnose: fit a model, show where it fails, rank every missing effect by a
+real refit, and compare what is left with the record's own noise floor."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..effects import all_effects
+from ..fit import DEFAULT_OPTIMIZER, fit_model, noise_floor, settings_for
+from ..fit.de import DESettings
+from ..model import parse_model
+from ..records.cycles import force_noise
+from . import where as where_mod
+from .rank import Candidate, Judge, rank
+
+#: default optimizer settings of diagnose: DE population per parameter,
+#: generations, Nelder-Mead polish evaluations (smaller than calibrate's: a
+#: diagnosis runs 1 + 7 fits and the ladder many more; on the rig's records
+#: they reach the same OF as calibrate's defaults to 4 digits)
+DIAGNOSE_POP, DIAGNOSE_GENS, DIAGNOSE_POLISH = 8, 120, 1000
+
+
+def diagnose_settings(pop: int | None = None, gens: int | None = None, polish_evals: int | None = None):
+    """DE settings for diagnose (None keeps the diagnose default)."""
+    settings_for(DEFAULT_OPTIMIZER, pop, gens)  # validates
+    return DESettings(popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
+                      polish_evals=polish_evals or DIAGNOSE_POLISH)
+
+
+@dataclass
+class Diagnosis:
+    """The result of ``diagnose``: the fitted model, where it fails, the
+    noise floor and the ranked candidate effects."""
+
+    record: str
+    spec: str
+    fit: object
+    F_model: np.ndarray
+    noise_std: float
+    judge: Judge
+    where: dict
+    candidates: list = field(default_factory=list)
+    wall_s: float = 0.0
+    plugins: dict | None = None
+    parent: tuple | None = None  # (spec, OF) of the model without the last effect
+
+    @property
+    def of(self) -> float:
+        return float(self.fit.of)
+
+    @property
+    def floor(self) -> float:
+        return float(self.judge.floor)
+
+    @property
+    def at_floor(self) -> bool:
+        return self.judge.at_floor(self.of)
+
+    @property
+    def suggestions(self) -> list[Candidate]:
+        """Candidates that help beyond noise, best first."""
+        return [c for c in self.candidates if c.significant]
+
+    @property
+    def best(self) -> Candidate | None:
+        s = self.suggestions
+        return s[0] if s else None
+
+    def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:
+        """Parameters within ``tol`` of a bound in the search space (log-scaled
+        parameters judged on their log scale): [(name, 'lower'|'upper')]."""
+        from ..fit.space import Space
+        from ..model import parse_model
+
+        model = parse_model(self.spec, self.plugins)
+        x = Space.of(self.fit.bounds, model.log_scale("auto")).to_unit(np.asarray(self.fit.params))
+        out = []
+        for name, xi, (lo, hi) in zip(self.fit.names, x, self.fit.bounds):
+            if xi <= tol and lo != 0.0:
+                out.append((name, "lower"))
+            elif xi >= 1.0 - tol:
+                out.append((name, "upper"))
+        return out
+
+    def params(self) -> dict:
+        return {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}
+
+    def as_dict(self) -> dict:
+        """The --json report: model, of, noise_floor_of, candidates (only those
+        that help beyond noise, best first), then the details."""
+        return {
+            "model": self.spec,
+            "of": self.of,
+            "noise_floor_of": self.floor,
+            "candidates": [{"effect": c.effect, "of": c.of, "improvement": c.improvement}
+                           for c in self.suggestions],
+            "record": self.record,
+            "at_noise_floor": self.at_floor,
+            "parent": None if self.parent is None else {"model": self.parent[0], "of": self.parent[1]},
+            "verdict": self.verdict(),
+            "noise_std_kN": self.noise_std,
+            "noise_margin_of": self.judge.margin,
+            "params": self.params(),
+            "units": dict(zip(self.fit.names, self.fit.units)),
+            "on_bound": [list(x) for x in self.on_bound()],
+            "where": self.where,
+            "all_candidates": [c.as_dict() for c in self.candidates],
+            "wall_s": self.wall_s,
+        }
+
+    def verdict(self) -> str:
+        """One line: what to do next."""
+        if self.at_floor:
+            return (f"nothing left to explain: OF {self.of:.4g} is at the noise floor {self.floor:.4g} "
+                    f"(within {self.judge.margin:.2g})")
+        b = self.best
+        if b is None and not self.candidates:
+            return (f"OF {self.of:.4g} is {self.of / self.floor:.1f}x the noise floor; "
+                    f"no candidate effects were refitted")
+        if b is None:
+            return (f"no candidate effect helps beyond noise (OF {self.of:.4g}, {self.of / self.floor:.1f}x "
+                    f"the noise floor): the misfit is not one of the known effects")
+        return b.explanation
+
+
+def diagnose(record, spec: str, plugins: dict | None = None, seed: int = 0, settings=None,
+             base_fit=None, candidates: bool = True, progress=None, parent=True) -> Diagnosis:
+    """Fit ``spec`` to ``record`` (or take ``base_fit``), analyse the residual,
+    and refit with every effect not in the model (when ``candidates``).
+
+    ``parent``: for a model with effects, how far the error fell from the
+    model without its last effect: True fits that model too, a (spec, OF)
+    pair is taken as given, None skips it.  ``progress(message)`` receives
+    one line per fit."""
+    t0 = time.perf_counter()
+    settings = settings or diagnose_settings()
+    model = parse_model(spec, plugins)
+    if base_fit is None:
+        base_fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings)
+        if progress:
+            progress(f"fitted {model.spec}: OF {base_fit.of:.5g} ({base_fit.wall_s:.1f} s)")
+    F_model = model.force(record, base_fit.params[None, :])[0]
+    sigma = force_noise(record.F)
+    judge = Judge(noise_floor(sigma, record.F), record.n)
+    diag = Diagnosis(record.name, model.spec, base_fit, F_model, float(sigma), judge,
+                     where_mod.analyse(record, F_model), plugins=plugins)
+    if candidates:
+        def report(c):
+            if progress:
+                progress(f"  + {c.effect:<20s} OF {c.of:.5g} ({c.improvement:+.1%}, {c.wall_s:.1f} s)")
+
+        diag.candidates = rank(model, base_fit, record, all_effects(plugins), judge, seed, settings, report)
+    if parent is True and model.effects:
+        parent_spec = model.spec.rsplit("+", 1)[0]
+        pfit = fit_model(parse_model(parent_spec, plugins), record, bounds="auto", optimizer="de", seed=seed,
+                         settings=settings)
+        parent = (parent_spec, float(pfit.of))
+        if progress:
+            progress(f"fitted {parent_spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
+    diag.parent = parent if isinstance(parent, tuple) else None
+    diag.wall_s = time.perf_counter() - t0
+    return diag

@@ -1,0 +1,83 @@
+"""The ladder: add the best effect, refit, repeat while it helps beyond noise.
+
+Each rung's model is the previous one plus the candidate that lowered the OF
+most among those that pass the noise test (rank.Judge: a drop beyond the
+noise-floor uncertainty and a lower BIC, the guard against overfitting).
+The ladder stops when no candidate passes, when the model reaches the noise
+floor, or when every effect is in.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from .core import Diagnosis, diagnose
+
+
+@dataclass
+class Rung:
+    """One model on the ladder."""
+
+    spec: str
+    of: float
+    improvement: float | None  # relative to the previous rung
+    params: dict
+    units: dict
+    explanation: str = ""
+
+    def as_dict(self) -> dict:
+        return {"model": self.spec, "of": self.of, "improvement": self.improvement,
+                "params": self.params, "units": self.units, "why": self.explanation}
+
+
+@dataclass
+class Ladder:
+    rungs: list = field(default_factory=list)
+    diagnoses: list = field(default_factory=list)
+    stop: str = ""
+    wall_s: float = 0.0
+
+    @property
+    def final(self) -> Diagnosis:
+        return self.diagnoses[-1]
+
+    def as_dict(self) -> dict:
+        return {"rungs": [r.as_dict() for r in self.rungs], "stop": self.stop,
+                "noise_floor_of": self.final.floor, "wall_s": self.wall_s}
+
+
+def climb(record, spec: str, plugins: dict | None = None, seed: int = 0, settings=None,
+          max_rungs: int | None = None, progress=None) -> Ladder:
+    """Run the ladder from ``spec``; returns every rung and each rung's diagnosis."""
+    t0 = time.perf_counter()
+    lad = Ladder()
+    diag = diagnose(record, spec, plugins, seed, settings, progress=progress, parent=None)
+    lad.diagnoses.append(diag)
+    lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), dict(zip(diag.fit.names, diag.fit.units))))
+    while True:
+        if max_rungs is not None and len(lad.rungs) > max_rungs:
+            lad.stop = f"after {max_rungs} added effect(s) (--max-rungs)"
+            break
+        if diag.at_floor:
+            lad.stop = "at the noise floor: nothing left to explain"
+            break
+        best = diag.best
+        if best is None:
+            lad.stop = ("no effect helps beyond noise" if diag.candidates
+                        else "every effect is already in the model")
+            break
+        if progress:
+            progress(f"ladder: adding {best.effect} -> {best.spec}")
+        prev = diag
+        # a model at the noise floor, or the last rung allowed, ends the ladder:
+        # its candidates need no refit
+        last = max_rungs is not None and len(lad.rungs) >= max_rungs
+        at_floor = diag.judge.at_floor(best.of)
+        diag = diagnose(record, best.spec, plugins, seed, settings, base_fit=best.fit,
+                        candidates=not (at_floor or last), progress=progress, parent=(prev.spec, prev.of))
+        lad.diagnoses.append(diag)
+        lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
+                              dict(zip(diag.fit.names, diag.fit.units)), best.explanation))
+    lad.wall_s = time.perf_counter() - t0
+    return lad

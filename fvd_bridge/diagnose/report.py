@@ -1,0 +1,64 @@
+"""Text reports of a diagnosis and of the ladder."""
+
+from __future__ import annotations
+
+from .where import summary_lines
+
+#: how many helpful candidates get their one-line physical explanation
+EXPLAIN_TOP = 3
+
+
+def _params(names, values, units) -> str:
+    return ", ".join(f"{n} = {v:.4g} {u}" for n, v, u in zip(names, values, units))
+
+
+def format_diagnosis(diag, record_label: str | None = None) -> str:
+    """The short text summary: fit, where it fails, candidates, verdict."""
+    f = diag.fit
+    lines = [f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g} "
+             f"(noise floor {diag.floor:.4g} from force noise {diag.noise_std:.3g} kN; "
+             f"{diag.of / diag.floor:.1f}x the floor)" if diag.floor > 0 else
+             f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g}",
+             f"parameters: {_params(f.names, f.params, f.units)}"]
+    if diag.parent is not None:
+        pspec, pof = diag.parent
+        lines.append(f"error fell from OF {pof:.4g} ({pspec}) to {diag.of:.4g}: "
+                     f"{(pof - diag.of) / pof:.0%} lower" if pof > diag.of else
+                     f"no gain over {pspec} (OF {pof:.4g})")
+    for name, side in diag.on_bound():
+        rigid = name.endswith("series_stiffness.Ks") and side == "upper"
+        lines.append(f"  note: {name} ended on its {side} bound" + (" (a rigid connection)" if rigid else ""))
+    floor_kN = diag.noise_std * (2.0 / 3.141592653589793) ** 0.5
+    lines.append("")
+    lines.append("where the model fails (residual r = measured - model):")
+    lines += [f"  {s}" for s in summary_lines(diag.where, floor_kN)]
+    if diag.candidates:
+        lines.append("")
+        lines.append(f"candidate effects (each added to {diag.spec} and refitted; "
+                     f"a gain must exceed {diag.judge.margin:.2g} in OF and lower the BIC):")
+        lines.append(f"  {'rank':<5}{'effect':<21}{'OF':>9}{'gain':>8}  verdict")
+        for k, c in enumerate(diag.candidates, 1):
+            lines.append(f"  {k:<5}{c.effect:<21}{c.of:>9.4g}{max(c.improvement, 0.0):>8.1%}  {c.reason}")
+    lines.append("")
+    if diag.at_floor or diag.best is None:
+        lines.append(diag.verdict())
+    else:
+        for k, c in enumerate(diag.suggestions[:EXPLAIN_TOP]):
+            lead = "suggestion:" if k == 0 else "       also:"
+            lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower)")
+        lines.append(f"next: fvd-bridge diagnose RECORD --law {diag.best.spec}")
+    return "\n".join(lines)
+
+
+def format_ladder(lad) -> str:
+    """The ladder as a table: model, OF, improvement, parameters."""
+    lines = ["ladder (each rung adds the effect that helps most beyond noise):",
+             f"  {'model':<50}{'OF':>9}{'gain':>8}  parameters"]
+    for r in lad.rungs:
+        gain = "" if r.improvement is None else f"{r.improvement:.1%}"
+        params = ", ".join(f"{n} = {v:.4g}" for n, v in r.params.items())
+        lines.append(f"  {r.spec:<50}{r.of:>9.4g}{gain:>8}  {params}")
+    lines.append(f"noise floor OF {lad.final.floor:.4g}; stopped: {lad.stop}")
+    for r in lad.rungs[1:]:
+        lines.append(f"  {r.spec.rsplit('+', 1)[1]}: {r.explanation}")
+    return "\n".join(lines)

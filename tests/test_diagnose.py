@@ -1,0 +1,241 @@
+"""diagnose: on virtual-rig records with one planted effect the effect is
+ranked first and brings the model to the noise floor; with none, nothing is
+suggested; the ladder finds two planted effects and stops; a plugin effect is
+calibrated and ranked; the CLI's JSON, figures and bad input."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import REPO, cli_env
+from fvd_bridge import cli
+from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
+from fvd_bridge.effects.plugins import load_plugins
+from fvd_bridge.fit import fit_model
+from fvd_bridge.model import parse_model
+from fvd_bridge.records import Record
+from fvd_bridge.records.writers import write_csv
+from fvd_bridge.rig import Device, Noise, acceptance, simulate
+
+C, ALPHA = 45.4, 0.3
+#: small optimizer settings: DE population per parameter, generations, polish evaluations
+SETTINGS = diagnose_settings(8, 60, 600)
+#: one planted effect each, sized like real devices but clearly above 1 kN of noise
+PLANTED = {
+    "series_stiffness": dict(Ks=50.0),
+    "friction": dict(friction=20.0),
+    "thermal_softening": dict(heating=1.5),
+    "gap": dict(gap=1.0),
+    "asymmetry": dict(asymmetry=0.08),
+    "parallel_stiffness": dict(Kp=1.5, preload=8.0),
+    "inertia": dict(mass=2000.0),
+}
+SEVEN = tuple(PLANTED)
+
+
+@pytest.fixture(scope="module")
+def protocol():
+    """Acceptance test (5 velocity levels, 2 cycles each, 0.5 to 4 Hz), 2657 samples."""
+    return acceptance(dt=0.005, cycles=2)
+
+
+def rig_record(protocol, name="none", seed=11, **params) -> Record:
+    return simulate(Device(C=C, alpha=ALPHA, **params), protocol, Noise(1.0), seed=seed, name=name)
+
+
+@pytest.mark.parametrize("name", SEVEN)
+def test_planted_effect_is_found_and_reaches_the_noise_floor(protocol, name):
+    rec = rig_record(protocol, name, **PLANTED[name])
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
+    top = diag.candidates[0]
+    assert [c.effect for c in diag.candidates].count(name) == 1 and len(diag.candidates) == 7
+    assert top.effect == name, format_diagnosis(diag)
+    assert top.significant and diag.best is top
+    assert top.of <= 0.5 * diag.of  # the OF falls by at least half
+    assert top.of <= 2.0 * diag.floor  # and ends at the noise floor
+    assert name in diag.verdict() and ":" in diag.verdict()  # "symptom: cause; add NAME"
+    report = diag.as_dict()
+    assert report["candidates"][0]["effect"] == name
+    assert 0.5 <= report["candidates"][0]["improvement"] < 1.0
+
+
+def test_no_hidden_effect_nothing_suggested(protocol):
+    rec = rig_record(protocol)
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
+    assert diag.at_floor and diag.suggestions == [] and diag.best is None
+    assert diag.verdict().startswith("nothing left to explain")
+    assert diag.as_dict()["candidates"] == []
+    assert len(diag.candidates) == 7  # every effect was still refitted and ranked
+    text = format_diagnosis(diag)
+    assert "nothing left to explain" in text and "suggestion:" not in text
+
+
+def test_ladder_finds_two_planted_effects_and_stops(protocol):
+    rec = rig_record(protocol, "two", friction=20.0, heating=1.5)
+    lad = climb(rec, "2", seed=0, settings=SETTINGS)
+    added = [r.spec.split("+")[-1] for r in lad.rungs[1:]]
+    assert sorted(added) == ["friction", "thermal_softening"], format_ladder(lad)
+    assert lad.stop
+    ofs = [r.of for r in lad.rungs]
+    assert ofs == sorted(ofs, reverse=True) and all(r.improvement > 0.2 for r in lad.rungs[1:])
+    assert ofs[-1] <= 2.0 * lad.final.floor
+    p = lad.rungs[-1].params
+    assert p["friction.Ff"] == pytest.approx(20.0, rel=0.1)
+    assert p["thermal_softening.theta"] == pytest.approx(1.5, rel=0.2)
+    assert "ladder" in format_ladder(lad) and "stopped" in format_ladder(lad)
+
+
+PLUGIN = '''
+import numpy as np
+from fvd_bridge.effects import Effect, Parameter
+
+def cubic(P, t, x, xv, xa):
+    """Hardening spring K3 x^3 [kN], K3 in kN/mm^3."""
+    return P[:, 0:1] * np.asarray(x) ** 3
+
+EFFECTS = [Effect(name="cubic_spring", stage="parallel", none=(0.0,), function=cubic,
+                  parameters=(Parameter("K3", "kN/mm^3", (0.0, 1.0),
+                                        lambda s: (0.0, 0.5 * s["F"] / s["d"] ** 3), "cubic stiffness"),),
+                  equation="+ K3 x^3", summary="a hardening spring", symptom="force grows with d^3",
+                  cause="a hardening spring")]
+'''
+
+
+def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path):
+    path = tmp_path / "my_effect.py"
+    path.write_text(PLUGIN)
+    plugins = load_plugins([str(path)])
+    base = rig_record(protocol, "cubic")
+    K3 = 0.004  # 32 kN at 20 mm
+    rec = Record(base.t, base.d, base.F + K3 * base.d ** 3, base.v, base.a, name="cubic")
+    diag = diagnose(rec, "2", plugins, seed=0, settings=SETTINGS)
+    assert diag.candidates[0].effect == "cubic_spring" and diag.candidates[0].significant
+    assert len(diag.candidates) == 8
+    fit = fit_model(parse_model("2+cubic_spring", plugins), rec, seed=1, settings=SETTINGS)
+    assert fit.names[-1] == "cubic_spring.K3"
+    assert fit.params[-1] == pytest.approx(K3, rel=0.05)
+    assert fit.of <= 2.0 * diag.floor
+
+
+# ------------------------------------------------------------------ the CLI
+@pytest.fixture(scope="module")
+def friction_csv(protocol, tmp_path_factory):
+    path = tmp_path_factory.mktemp("diag") / "friction_dev.csv"
+    # a lab record with a measured velocity column (the acceleration comes from it)
+    write_csv(rig_record(protocol, "friction_dev", **PLANTED["friction"]), str(path), with_velocity=True)
+    return path
+
+
+def test_cli_json_report_and_figures(friction_csv, tmp_path, capsys):
+    out = tmp_path / "out"
+    code = cli.main(["diagnose", str(friction_csv), "--law", "2", "--json", "--out", str(out),
+                     "--pop", "8", "--gens", "60", "--quiet"])
+    assert code == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["model"] == "2"
+    assert report["of"] > 2 * report["noise_floor_of"] > 0
+    assert report["candidates"][0]["effect"] == "friction"
+    assert set(report["candidates"][0]) >= {"effect", "of", "improvement"}
+    assert [c["of"] for c in report["candidates"]] == sorted(c["of"] for c in report["candidates"])
+    assert {c["effect"] for c in report["all_candidates"]} == set(SEVEN)
+    assert (out / "friction_dev_where.png").stat().st_size > 10_000
+    assert json.loads((out / "friction_dev_diagnose.json").read_text())["model"] == "2"
+    assert not list(tmp_path.glob(".out.partial*"))
+
+
+def test_cli_next_step_shows_the_error_fallen(friction_csv, tmp_path, capsys):
+    code = cli.main(["diagnose", str(friction_csv), "--law", "2+friction", "--out", str(tmp_path),
+                     "--pop", "8", "--gens", "60", "--quiet", "--no-figures"])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "with model 2+friction" in out and "nothing left to explain" in out
+    assert "friction.Ff = " in out and "error fell from OF" in out and "(2) to" in out
+
+
+def test_cli_ladder_prints_table_and_writes_figure(friction_csv, tmp_path, capsys):
+    code = cli.main(["diagnose", str(friction_csv), "--law", "2", "--ladder", "--out", str(tmp_path),
+                     "--pop", "8", "--gens", "60", "--quiet"])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "ladder (each rung" in out and "2+friction" in out and "stopped:" in out
+    assert (tmp_path / "friction_dev_ladder.png").stat().st_size > 5_000
+    report = json.loads((tmp_path / "friction_dev_diagnose.json").read_text())
+    assert [r["model"] for r in report["ladder"]["rungs"]] == ["2", "2+friction"]
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--law", "2+fricton"], ["unknown effect 'fricton'"]),
+    (["--law", "2+friction+friction"], ["appears twice"]),
+    (["--law", "2", "--plugin", "PLUGIN_BAD"], ["bad_plugin.py", "syntax error"]),
+    (["--law", "2", "--plugin", "PLUGIN_CLASH"], ["clashes with the built-in"]),
+    (["--law", "2", "--pop", "0"], ["--pop 0"]),
+])
+def test_cli_bad_input_one_line_exit_2(friction_csv, tmp_path, capsys, extra, words):
+    bad = tmp_path / "bad_plugin.py"
+    bad.write_text("def f(:\n")
+    clash = tmp_path / "clash_plugin.py"
+    clash.write_text(PLUGIN.replace('name="cubic_spring"', 'name="gap"'))
+    extra = [str(bad) if a == "PLUGIN_BAD" else str(clash) if a == "PLUGIN_CLASH" else a for a in extra]
+    code = cli.main(["diagnose", str(friction_csv), "--out", str(tmp_path / "o"), *extra])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert all(w in err for w in words), err
+    assert not (tmp_path / "o").exists()  # nothing written
+
+
+def test_cli_missing_record_in_a_subprocess(tmp_path):
+    res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "diagnose", str(tmp_path / "nope.csv"),
+                          "--law", "2"], capture_output=True, text=True, env=cli_env(), cwd=tmp_path)
+    assert res.returncode == 2 and res.stdout == ""
+    assert len(res.stderr.strip().splitlines()) == 1 and "no such file" in res.stderr
+
+
+# ------------------------------------------------------------------ where it fails
+def test_where_numbers_point_at_the_effect(protocol):
+    fits = {}
+    for name in ("asymmetry", "thermal_softening", "gap"):
+        rec = rig_record(protocol, name, **PLANTED[name])
+        fits[name] = diagnose(rec, "2", seed=0, settings=SETTINGS, candidates=False).where
+    w = fits["asymmetry"]  # r = 0.08: the symmetric model is too weak in tension, too strong in compression
+    assert w["tension"]["signed"] > 0 > w["compression"]["signed"]
+    w = fits["thermal_softening"]  # softening: the constant model is too weak early, too strong late
+    assert w["early"]["signed"] > w["late"]["signed"]
+    w = fits["gap"]  # dead band at the reversals
+    assert w["reversal"]["error_share"] > 1.2 * w["reversal"]["time_share"]
+    assert len(w["levels"]) == 5 and [lv["peak_v"] for lv in w["levels"]] == sorted(
+        lv["peak_v"] for lv in w["levels"])
+
+
+def test_custom_effect_example_runs():
+    res = subprocess.run([sys.executable, str(REPO / "examples" / "custom_effect.py")], capture_output=True,
+                         text=True, env=cli_env(), timeout=600)
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "ranked first: stribeck" in res.stdout
+
+
+def test_mr_damper_ladder_example(device_files, tmp_path):
+    res = subprocess.run([sys.executable, str(REPO / "examples" / "diagnose_mr_damper.py"), "--quick",
+                          "--max-rungs", "1", "--out", str(tmp_path / "mr")], capture_output=True, text=True,
+                         env=cli_env(), timeout=600, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    out = res.stdout
+    assert out.count("ladder (each rung") == 2 and "what it means" in out
+    assert "x the noise floor" in out
+    for name in ("mr_0V", "mr_0.88V"):
+        assert (tmp_path / "mr" / f"{name}_ladder.png").is_file()
+
+
+def test_mr_damper_example_without_shared(tmp_path, monkeypatch):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("diag_mr", REPO / "examples" / "diagnose_mr_damper.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    monkeypatch.setattr(mod, "DEVICES", tmp_path / "nowhere")
+    assert mod.main(["--out", str(tmp_path / "o")]) == 0
+    assert not (tmp_path / "o").exists()
