@@ -45,6 +45,10 @@ class Model:
         rows += [e.bounds(scales) for e in self.effects]
         return np.vstack(rows)
 
+    def off_values(self) -> list:
+        """Per parameter: the value that switches its effect off (None for law parameters)."""
+        return [None] * len(self.law.parameters) + [v for e in self.effects for v in e.none]
+
     def log_scale(self, mode: str) -> np.ndarray:
         """Which parameters the default optimizer searches on a log scale."""
         return np.array([p.log and mode == "auto" for p in self.parameters])

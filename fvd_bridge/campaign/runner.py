@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
@@ -87,7 +88,10 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True) -> dict:
             for i, rec, j, spec, r in tasks:
                 done(rec.name, spec, r, _fit_one(rec, spec, _task_seed(cs.seed, i, j, r), cs))
         else:
-            with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker) as pool:
+            # not 'fork': a child forked after numba's thread pool started can hang or die
+            method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+            with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker,
+                                     mp_context=multiprocessing.get_context(method)) as pool:
                 futures = {pool.submit(_fit_one, rec, spec, _task_seed(cs.seed, i, j, r), cs): (rec.name, spec, r)
                            for i, rec, j, spec, r in tasks}
                 for fut in as_completed(futures):

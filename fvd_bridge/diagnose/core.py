@@ -70,20 +70,8 @@ class Diagnosis:
         return s[0] if s else None
 
     def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:
-        """Parameters within ``tol`` of a bound in the search space (log-scaled
-        parameters judged on their log scale): [(name, 'lower'|'upper')]."""
-        from ..fit.space import Space
-        from ..model import parse_model
-
-        model = parse_model(self.spec, self.plugins)
-        x = Space.of(self.fit.bounds, model.log_scale("auto")).to_unit(np.asarray(self.fit.params))
-        out = []
-        for name, xi, (lo, hi) in zip(self.fit.names, x, self.fit.bounds):
-            if xi <= tol and lo != 0.0:
-                out.append((name, "lower"))
-            elif xi >= 1.0 - tol:
-                out.append((name, "upper"))
-        return out
+        """Parameters that ended on a bound (see FitResult.on_bound)."""
+        return self.fit.on_bound(tol)
 
     def params(self) -> dict:
         return {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}

@@ -79,4 +79,5 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     return FitResult(spec=model.spec, names=model.names, units=model.units,
                      params=space.to_params(x), of=float(of), bounds=b, bounds_mode=mode,
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
-                     wall_s=time.perf_counter() - start, record=record.name)
+                     wall_s=time.perf_counter() - start, record=record.name,
+                     log=[bool(x) for x in space.log], off=model.off_values())

@@ -24,6 +24,8 @@ class FitResult:
     history: list = field(default_factory=list)
     wall_s: float = 0.0
     record: str = ""
+    log: list = field(default_factory=list)  # searched on a log scale, per parameter
+    off: list = field(default_factory=list)  # value that switches an effect off (None for law parameters)
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -32,15 +34,21 @@ class FitResult:
         d["units"] = dict(zip(self.names, self.units))
         d.pop("names")
         d["history"] = [float(h) for h in self.history]
+        d["log"] = [bool(x) for x in self.log]
         return d
 
-    def on_bound(self, rtol: float = 1e-3) -> list[tuple[str, str]]:
-        """Parameters that ended on a bound: [(name, 'lower'|'upper'), ...]."""
+    def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:
+        """Parameters within ``tol`` of a bound in the search space (log-scaled ones
+        judged on their log scale): [(name, 'lower'|'upper')].  A lower bound of 0
+        and an effect's 'off' value are natural ends, not starvation."""
+        from .space import Space
+
+        x = Space.of(self.bounds, self.log or None).to_unit(np.asarray(self.params))
+        off = self.off or [None] * len(self.names)
         out = []
-        for name, p, (lo, hi) in zip(self.names, self.params, self.bounds):
-            span = (hi - lo) or 1.0
-            if p - lo <= rtol * span and lo != 0.0:
+        for name, xi, (lo, hi), o in zip(self.names, x, self.bounds, off):
+            if xi <= tol and lo != 0.0 and lo != o:
                 out.append((name, "lower"))
-            elif hi - p <= rtol * span:
+            elif xi >= 1.0 - tol and hi != o:
                 out.append((name, "upper"))
         return out

@@ -49,13 +49,14 @@ def count_cycles(d: np.ndarray) -> float:
 
 
 def force_noise(F: np.ndarray) -> float:
-    """Standard deviation [kN] of white force noise, from the 2nd difference.
+    """Standard deviation [kN] of white force noise, from the 4th difference.
 
-    sigma = median|F[i-1] - 2F[i] + F[i+1]| / (0.6745 sqrt(6)): the 2nd
-    difference of white noise has variance 6 sigma^2, the median makes the
-    estimate robust to the signal's own curvature at reversals.
+    sigma = median|D4 F| / (0.6745 sqrt(70)), D4 F[i] = F[i-2] - 4F[i-1] +
+    6F[i] - 4F[i+1] + F[i+2]: the 4th difference of white noise has variance
+    70 sigma^2 and cancels a smooth signal up to its cubic part; the median
+    makes the estimate robust to the signal's sharp features at reversals.
     """
-    if F.size < 3:
+    if F.size < 5:
         return float("nan")
-    d2 = F[:-2] - 2.0 * F[1:-1] + F[2:]
-    return float(np.median(np.abs(d2)) / (0.6745 * np.sqrt(6.0)))
+    d4 = F[:-4] - 4.0 * F[1:-3] + 6.0 * F[2:-2] - 4.0 * F[3:-1] + F[4:]
+    return float(np.median(np.abs(d4)) / (0.6745 * np.sqrt(70.0)))
