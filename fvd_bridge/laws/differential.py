@@ -2,121 +2,248 @@
 
 Each driver integrates z(t) from z = 0 with a fixed step equal to the
 sampling step dt (optionally split in ``substeps``), v linear between
-samples, for every parameter row in parallel (numba prange over the
-population): P (pop, n_par) -> F (pop, n_t) [kN].
+samples: P (pop, n_par) -> F (pop, n_t) [kN].  The population is cut into
+blocks of members that advance in time together: a block keeps its members'
+constants and states in the rows of one work array and applies the updates
+of ``steps.py`` lane by lane (SIMD); the blocks run in parallel (numba prange).  Per-member constants are computed once,
+before the time loop.  A block is padded with copies of its last member, and
+a member's force does not depend on the others.
 """
 
 from __future__ import annotations
 
-import math
+import os
 
 import numpy as np
 from numba import njit, prange
 
-from .steps import bouc_wen_step, lugre_step, maxwell_step, powsign, slip_step, split_travel
+from .steps import (FASTMATH, LAM_MIN, NEWTON_MAXIT, bouc_wen_step, kernel, lugre_step, maxwell_bdf2_rhs,
+                    maxwell_end, maxwell_force, maxwell_log_c, maxwell_newton, maxwell_start, maxwell_tr_rhs,
+                    slip_step, split_travel)
 
-Q_MAX = 1e150  # largest dashpot rate factor q of law 7 [1/s per mm^p]
+# OpenMP threads busy-wait between parallel regions by default, taking the CPU
+# that the GA's own Python code and other processes need; on a busy 2-core
+# machine that made these kernels up to 10x slower.  Read when numba starts its
+# threads (the first parallel call); a user's own setting is kept.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+# Blocks of members integrated together; the width is the length of a tuple,
+# so that numba compiles it as a constant.  Populations go 32 members a block
+# (16 for law 7, whose Newton steps wait for a block's slowest member), fewer
+# than 4 members one by one (an optimizer's polish evaluates one at a time).
+LANES_32, LANES_16, LANES_1 = (0.0,) * 32, (0.0,) * 16, (0.0,)
+NARROW_BELOW = 4
+parallel_kernel = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model="numpy")
+
+# Rows of a block's work array (one value per member): the state, then the
+# per-member constants.  One array allocated in the driver lets the compiler
+# prove the rows apart, so the lane loops are SIMD without run-time checks.
+Z, FORCE = 0, 1  # every law: z and the force of the current sample [kN]
+A_D, B_Z, C_V, STEP = 2, 3, 4, 5  # laws 6, 8, 9: F = a d + b z + C v; the step's constants from STEP
+C_PHI, RHS, ABS_R, LAM, LAM1, LAM2, LN_R, E1, E2, DLAM, DONE = range(2, 13)  # law 7 state (_maxwell_force)
+LN_C, P, INV_P, LN_K, BETA = range(13, 18)  # law 7 constants
 
 
-@njit(cache=True)
+def _run(driver, wide, d, v, dt, substeps, *columns):
+    """driver(d, v, dt, c, substeps, lanes) on the table c (n_const, n) of the
+    per-member constant columns, n padded to whole blocks (of len(wide)
+    members, or 1) by repeating the last member; returns F (pop, n_t) [kN]."""
+    table = np.vstack(np.broadcast_arrays(*[np.asarray(col, dtype=float) for col in columns]))
+    pop = table.shape[1]
+    lanes = LANES_1 if pop < NARROW_BELOW else wide
+    pad = np.repeat(table[:, -1:], -pop % len(lanes), axis=1)
+    c = np.ascontiguousarray(np.concatenate([table, pad], axis=1))
+    return driver(d, v, dt, c, substeps, lanes)[:pop]
+
+
+@kernel
+def _work(c, i0, first, lanes):
+    """Work array (rows of len(lanes) values) of the block of members from i0,
+    its rows from ``first`` on holding their constants (the rows of c), the
+    others zero."""
+    s = np.zeros((first + c.shape[0], len(lanes)))
+    for row in range(c.shape[0]):
+        for lane in range(s.shape[1]):
+            s[first + row, lane] = c[row, i0 + lane]
+    return s
+
+
+@kernel
+def _store(F, k, s, i0):
+    """F[i0 + lane, k] = s[FORCE, lane] (a plain loop: a SIMD scatter is slower)."""
+    for lane in range(s.shape[1]):
+        F[i0 + lane, k] = s[FORCE, lane]
+
+
+@kernel
 def _sub_velocities(v0, v1, j, m):
     """Velocities at the ends of sub-step j of m within one sample step."""
     return v0 + (v1 - v0) * j / m, v0 + (v1 - v0) * (j + 1) / m
 
 
-@njit(parallel=True, cache=True)
-def bouc_wen_force(d, v, dt, C, K, alpha, A, beta, gamma, substeps):
-    """F = alpha K d + (1 - alpha) K z + C v (paper eq. 8) with the Bouc-Wen z
-    of ``bouc_wen_step``; parameters are arrays of length pop."""
-    pop, n = C.size, d.size
-    F = np.empty((pop, n))
+# --- laws 6, 8, 9: rate-independent, exact for v linear between samples -----
+
+@njit(inline="always")
+def _travel_force(d, v, dt, c, substeps, lanes, advance):
+    """F = a d + b z + C v [kN] (c rows 0-2), z from 0 moved by ``advance(s, u)``
+    over each travel u of one sign (a step's travel is split where v changes
+    sign).  Inlined into each law's driver, which fixes ``advance`` (a
+    function argument would defeat numba's cache)."""
+    n_lanes, n = c.shape[1], d.size
+    F = np.empty((n_lanes, n))
     h = dt / substeps
-    for i in prange(pop):
-        z = 0.0
-        F[i, 0] = alpha[i] * K[i] * d[0] + C[i] * v[0]
-        for k in range(1, n):
-            for j in range(substeps):
+    for block in prange(n_lanes // len(lanes)):
+        i0 = block * len(lanes)
+        s = _work(c, i0, A_D, lanes)
+        for k in range(n):
+            for j in range(substeps if k > 0 else 0):
                 va, vb = _sub_velocities(v[k - 1], v[k], j, substeps)
-                u1, u2 = split_travel(va, vb, h)
-                z = bouc_wen_step(z, u1, A[i], beta[i], gamma[i])
-                z = bouc_wen_step(z, u2, A[i], beta[i], gamma[i])
-            F[i, k] = alpha[i] * K[i] * d[k] + (1.0 - alpha[i]) * K[i] * z + C[i] * v[k]
+                for u in split_travel(va, vb, h):
+                    if u != 0.0:
+                        advance(s, u)
+            for lane in range(s.shape[1]):
+                s[FORCE, lane] = s[A_D, lane] * d[k] + s[B_Z, lane] * s[Z, lane] + s[C_V, lane] * v[k]
+            _store(F, k, s, i0)
     return F
+
+
+@kernel
+def _bouc_wen_advance(s, u):
+    for lane in range(s.shape[1]):
+        s[Z, lane] = bouc_wen_step(s[Z, lane], u, s[STEP, lane], s[STEP + 1, lane], s[STEP + 2, lane])
+
+
+@parallel_kernel
+def _bouc_wen_force(d, v, dt, c, substeps, lanes):
+    return _travel_force(d, v, dt, c, substeps, lanes, _bouc_wen_advance)
+
+
+def bouc_wen_force(d, v, dt, C, K, alpha, A, beta, gamma, substeps=1):
+    """Bouc-Wen element (n = 1, ``steps.bouc_wen_step``) + viscous:
+    F = alpha K d + (1 - alpha) K z + C v (paper eq. 8).  Parameters are arrays
+    of length pop (or scalars): C [kN/(mm/s)], K [kN/mm], alpha [-], A [-],
+    beta and gamma [1/mm].  Returns F (pop, n_t) [kN]."""
+    C, K, alpha = (np.asarray(x, dtype=float) for x in (C, K, alpha))
+    return _run(_bouc_wen_force, LANES_32, d, v, dt, substeps,
+                alpha * K, (1.0 - alpha) * K, C, A, beta, gamma)
 
 
 def law6(d, v, dt, P, substeps=1):
     """Bouc-Wen + viscous with A = n = 1, beta = gamma (paper section 2.6)."""
-    ones = np.ones(P.shape[0])
-    return bouc_wen_force(d, v, dt, P[:, 0].copy(), P[:, 1].copy(), P[:, 2].copy(),
-                          ones, P[:, 3].copy(), P[:, 3].copy(), substeps)
+    return bouc_wen_force(d, v, dt, P[:, 0], P[:, 1], P[:, 2], 1.0, P[:, 3], P[:, 3], substeps)
 
 
-@njit(parallel=True, cache=True)
-def _law7(d, v, dt, P, substeps):
-    pop, n = P.shape[0], d.size
-    F = np.zeros((pop, n))
+@kernel
+def _slip_advance(s, u):
+    for lane in range(s.shape[1]):
+        s[Z, lane] = slip_step(s[Z, lane], u, s[STEP, lane])
+
+
+@parallel_kernel
+def _slip_force(d, v, dt, c, substeps, lanes):
+    return _travel_force(d, v, dt, c, substeps, lanes, _slip_advance)
+
+
+def law8(d, v, dt, P, substeps=1):
+    """Lu unified friction + viscous: F = z mu N + C v (eqs. 12-13), z = ``steps.slip_step``."""
+    C, K, mu_N = P[:, 0], P[:, 1], P[:, 2] * P[:, 3]
+    k_slip = np.divide(K, mu_N, out=np.zeros_like(K), where=mu_N > 0.0)
+    return _run(_slip_force, LANES_32, d, v, dt, substeps, 0.0, mu_N, C, k_slip)
+
+
+@kernel
+def _lugre_advance(s, u):
+    for lane in range(s.shape[1]):
+        s[Z, lane] = lugre_step(s[Z, lane], u, s[STEP, lane])
+
+
+@parallel_kernel
+def _lugre_force(d, v, dt, c, substeps, lanes):
+    return _travel_force(d, v, dt, c, substeps, lanes, _lugre_advance)
+
+
+def law9(d, v, dt, P, substeps=1):
+    """LuGre with eps = K = F0 = 0: F = beta z + C v (eqs. 14-15), z = ``steps.lugre_step``."""
+    return _run(_lugre_force, LANES_32, d, v, dt, substeps, 0.0, P[:, 2], P[:, 0], P[:, 1])
+
+
+# --- law 7: TR-BDF2 (steps.py) -------------------------------------------------
+
+@kernel
+def _maxwell_first(s, lane, r):
+    """Start the solve of x + c sign(x)|x|^p = r in one lane and take the
+    first Newton step (``steps.maxwell_start``, ``steps.maxwell_newton``)."""
+    lam0, s[LN_R, lane], R = maxwell_start(r, s[LAM, lane], s[LAM1, lane], s[LAM2, lane], s[LN_R, lane],
+                                           s[LN_C, lane], s[INV_P, lane])
+    lam, s[E1, lane], s[E2, lane], s[DONE, lane] = maxwell_newton(lam0, R, s[LN_C, lane], s[P, lane])
+    s[RHS, lane], s[ABS_R, lane], s[LAM, lane], s[DLAM, lane] = r, R, lam, lam - lam0
+
+
+@kernel
+def _maxwell_polish(s):
+    """Further Newton steps until every lane has converged; a lane that has
+    stays put, so its result does not depend on the others."""
+    for _ in range(NEWTON_MAXIT):
+        n_moving = 0
+        for lane in range(s.shape[1]):
+            n_moving += s[DONE, lane] == 0.0
+        if n_moving == 0:
+            return
+        for lane in range(s.shape[1]):
+            lam, e1, e2, done = maxwell_newton(s[LAM, lane], s[ABS_R, lane], s[LN_C, lane], s[P, lane])
+            live = s[DONE, lane] == 0.0
+            s[DLAM, lane] = lam - s[LAM, lane] if live else s[DLAM, lane]
+            s[E1, lane] = e1 if live else s[E1, lane]
+            s[E2, lane] = e2 if live else s[E2, lane]
+            s[LAM, lane] = lam if live else s[LAM, lane]
+            s[DONE, lane] = done if live else 1.0
+
+
+@kernel
+def _maxwell_end(s, lane):
+    """Root of the lane's solve (``steps.maxwell_end``), keeping the slopes
+    for the next start."""
+    x, s[LAM1, lane], s[LAM2, lane] = maxwell_end(s[RHS, lane], s[E1, lane], s[E2, lane], s[DLAM, lane],
+                                                  s[P, lane])
+    return x
+
+
+@parallel_kernel
+def _maxwell_force(d, v, dt, c, substeps, lanes):
+    """Law 7 for the constant table c (rows ln c, p, 1/p, ln K, beta):
+    F (n_lanes, n_t) [kN].  State rows: z, c phi(z) = r - z, and of the last
+    solve its right side r, |r|, ln|x|, the slopes of ln|x|(ln|r|) and the
+    last Newton evaluation (e1, e2, step, converged).  Each solve step appears
+    once in the code (a loop over the two stages; a solve's root is taken at
+    the start of the next one), which halves numba's compile time."""
+    n_lanes, n = c.shape[1], d.size
+    F = np.empty((n_lanes, n))
     h = dt / substeps
-    for i in prange(pop):
-        C, alpha, K, beta = P[i, 0], P[i, 1], P[i, 2], P[i, 3]
-        # q = (K/C)^(1/alpha), clamped: beyond it the dashpot is rigid at this step anyway
-        q = min(math.exp(math.log(K / C) / alpha), Q_MAX) if C > 0.0 and K > 0.0 else (Q_MAX if C <= 0.0 else 0.0)
-        p = beta / alpha
-        z = 0.0
-        for k in range(1, n):
-            for j in range(substeps):
+    for block in prange(n_lanes // len(lanes)):
+        i0 = block * len(lanes)
+        s = _work(c, i0, LN_C, lanes)
+        # as after solving r = 0: x = e^LAM_MIN (0 to 1e-304), neutral slopes
+        s[LAM], s[LAM1], s[LN_R], s[E1] = LAM_MIN, 1.0, LAM_MIN, np.exp(LAM_MIN)
+        for k in range(n):
+            for j in range(substeps if k > 0 else 0):
                 va, vb = _sub_velocities(v[k - 1], v[k], j, substeps)
-                z = maxwell_step(z, 0.5 * (va + vb) * h, h, q, p)
-            F[i, k] = K * powsign(z, beta)
+                for stage in range(2):  # trapezoidal to t + gamma h, then BDF2 to t + h
+                    for lane in range(s.shape[1]):
+                        x = _maxwell_end(s, lane)  # root of the previous solve
+                        if stage == 0:  # that was z at the start of the step
+                            s[Z, lane], s[C_PHI, lane] = x, s[RHS, lane] - x
+                        r = (maxwell_tr_rhs(s[Z, lane], s[C_PHI, lane], va, vb, h) if stage == 0
+                             else maxwell_bdf2_rhs(x, s[Z, lane], vb, h))
+                        _maxwell_first(s, lane, r)
+                    _maxwell_polish(s)
+            for lane in range(s.shape[1]):  # z has the sign of r and ln|z| = lam
+                s[FORCE, lane] = maxwell_force(s[RHS, lane], s[LAM, lane], s[LN_K, lane], s[BETA, lane])
+            _store(F, k, s, i0)
     return F
 
 
 def law7(d, v, dt, P, substeps=1):
     """Lu unified visco-elastic: F = K sign(z)|z|^beta (eqs. 10-11), z the spring deformation."""
-    return _law7(d, v, dt, P, substeps)
-
-
-@njit(parallel=True, cache=True)
-def _law8(d, v, dt, P, substeps):
-    pop, n = P.shape[0], d.size
-    F = np.empty((pop, n))
-    h = dt / substeps
-    for i in prange(pop):
-        C, K, muN = P[i, 0], P[i, 1], P[i, 2] * P[i, 3]
-        k_slip = K / muN if muN > 0.0 else 0.0
-        z = 0.0
-        F[i, 0] = C * v[0]
-        for k in range(1, n):
-            for j in range(substeps):
-                va, vb = _sub_velocities(v[k - 1], v[k], j, substeps)
-                u1, u2 = split_travel(va, vb, h)
-                z = slip_step(slip_step(z, u1, k_slip), u2, k_slip)
-            F[i, k] = z * muN + C * v[k]
-    return F
-
-
-def law8(d, v, dt, P, substeps=1):
-    """Lu unified friction + viscous: F = z mu N + C v (eqs. 12-13)."""
-    return _law8(d, v, dt, P, substeps)
-
-
-@njit(parallel=True, cache=True)
-def _law9(d, v, dt, P, substeps):
-    pop, n = P.shape[0], d.size
-    F = np.empty((pop, n))
-    h = dt / substeps
-    for i in prange(pop):
-        C, a, b = P[i, 0], P[i, 1], P[i, 2]
-        z = 0.0
-        F[i, 0] = C * v[0]
-        for k in range(1, n):
-            for j in range(substeps):
-                va, vb = _sub_velocities(v[k - 1], v[k], j, substeps)
-                u1, u2 = split_travel(va, vb, h)
-                z = lugre_step(lugre_step(z, u1, a), u2, a)
-            F[i, k] = b * z + C * v[k]
-    return F
-
-
-def law9(d, v, dt, P, substeps=1):
-    """LuGre with eps = K = F0 = 0: F = beta z + C v (eqs. 14-15)."""
-    return _law9(d, v, dt, P, substeps)
+    C, alpha, K, beta = P.T
+    ln_c, ln_K = maxwell_log_c(C, alpha, K, dt / substeps), np.log(np.maximum(K, 1e-300))
+    return _run(_maxwell_force, LANES_16, d, v, dt, substeps, ln_c, beta / alpha, alpha / beta, ln_K, beta)
