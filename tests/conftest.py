@@ -68,3 +68,20 @@ def cli_env() -> dict:
 
 
 CLI = [sys.executable, "-m", "fvd_bridge.cli"]
+
+
+#: a user effect file (hardening spring) used by the plugin tests
+PLUGIN = '''
+import numpy as np
+from fvd_bridge.effects import Effect, Parameter
+
+def cubic(P, t, x, xv, xa):
+    """Hardening spring K3 x^3 [kN], K3 in kN/mm^3."""
+    return P[:, 0:1] * np.asarray(x) ** 3
+
+EFFECTS = [Effect(name="cubic_spring", stage="parallel", none=(0.0,), function=cubic,
+                  parameters=(Parameter("K3", "kN/mm^3", (0.0, 1.0),
+                                        lambda s: (0.0, 0.5 * s["F"] / s["d"] ** 3), "cubic stiffness"),),
+                  equation="+ K3 x^3", summary="a hardening spring", symptom="force grows with d^3",
+                  cause="a hardening spring")]
+'''

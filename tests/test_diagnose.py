@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import REPO, cli_env
+from conftest import PLUGIN, REPO, cli_env
 from fvd_bridge import cli
 from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
 from fvd_bridge.effects.plugins import load_plugins
@@ -90,20 +90,6 @@ def test_ladder_finds_two_planted_effects_and_stops(protocol):
     assert "ladder" in format_ladder(lad) and "stopped" in format_ladder(lad)
 
 
-PLUGIN = '''
-import numpy as np
-from fvd_bridge.effects import Effect, Parameter
-
-def cubic(P, t, x, xv, xa):
-    """Hardening spring K3 x^3 [kN], K3 in kN/mm^3."""
-    return P[:, 0:1] * np.asarray(x) ** 3
-
-EFFECTS = [Effect(name="cubic_spring", stage="parallel", none=(0.0,), function=cubic,
-                  parameters=(Parameter("K3", "kN/mm^3", (0.0, 1.0),
-                                        lambda s: (0.0, 0.5 * s["F"] / s["d"] ** 3), "cubic stiffness"),),
-                  equation="+ K3 x^3", summary="a hardening spring", symptom="force grows with d^3",
-                  cause="a hardening spring")]
-'''
 
 
 def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path):

@@ -18,6 +18,7 @@ from fvd_bridge.laws import LAWS, get_law
 from fvd_bridge.model import parse_model
 from fvd_bridge.records import Record
 from fvd_bridge.rig import Device, acceptance, paper, simulate
+from conftest import PLUGIN
 
 C, ALPHA = 45.4, 0.3
 SEVEN = ("series_stiffness", "friction", "thermal_softening", "gap", "asymmetry", "parallel_stiffness", "inertia")
@@ -280,20 +281,6 @@ def test_all_effects_together_reproduce_the_rig():
 
 
 # ------------------------------------------------------------ plugins
-PLUGIN = '''
-import numpy as np
-from fvd_bridge.effects import Effect, Parameter
-
-def cubic(P, t, x, xv, xa):
-    """Hardening spring K3 x^3 [kN], K3 in kN/mm^3."""
-    return P[:, 0:1] * np.asarray(x) ** 3
-
-EFFECTS = [Effect(name="cubic_spring", stage="parallel", none=(0.0,), function=cubic,
-                  parameters=(Parameter("K3", "kN/mm^3", (0.0, 1.0),
-                                        lambda s: (0.0, 0.5 * s["F"] / s["d"] ** 3), "cubic stiffness"),),
-                  equation="+ K3 x^3", summary="a hardening spring", symptom="force grows with d^3",
-                  cause="a hardening spring")]
-'''
 
 
 def test_plugin_effect_composes_like_a_builtin(tmp_path):

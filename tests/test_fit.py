@@ -94,7 +94,21 @@ def test_ga_stops_on_stagnation():
     flat = lambda X: np.ones(len(X))  # noqa: E731  nothing ever improves
     _, _, hist, evals = run_ga(flat, 2, np.random.default_rng(0), GASettings(pop=10, gens=200, stall=20))
     assert len(hist) == 21  # initial generation + 20 stalled ones
-    assert evals == 10 + 20 * 9
+    assert evals <= 10 + 20 * 9  # identical children are not evaluated twice
+
+
+def test_ga_reuses_identical_children_without_changing_the_result():
+    calls = []
+
+    def counted(X):
+        calls.append(len(X))
+        return _sphere(X)
+
+    s = GASettings(pop=30, gens=80, stall=80)
+    x, f, hist, evals = run_ga(counted, 2, np.random.default_rng(3), s)
+    assert evals == sum(calls) < 30 + 79 * 29  # converged generations repeat members
+    assert f == pytest.approx(_sphere(x[None, :])[0])
+    assert np.all(np.diff(hist) <= 0.0)
 
 
 def test_fit_is_reproducible_by_seed():
