@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 export MPLBACKEND := Agg
 
-.PHONY: demo test test-slow bench sysdeps clean
+.PHONY: demo test bench sysdeps clean
 
 # openseespy needs the Debian packages libblas3 and liblapack3.
 sysdeps:
@@ -23,14 +23,12 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install -q -e '.[test]'
 	touch $(STAMP)
 
+# the full demo (20 runs, full optimizer settings) takes over 5 minutes on 2 cores: quick settings
 demo: $(STAMP)
-	$(BIN)/fvd-bridge demo --out demo_out
+	$(BIN)/fvd-bridge demo --quick --out demo_out
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
-
-test-slow: $(STAMP)
-	$(BIN)/python -m pytest -q -m slow
 
 bench: $(STAMP)
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
