@@ -14,6 +14,9 @@ sysdeps:
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
 	  echo "installing libblas3 liblapack3 (needed by openseespy)"; \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null; \
+	elif command -v sudo >/dev/null && sudo -n true 2>/dev/null && command -v apt-get >/dev/null; then \
+	  echo "installing libblas3 liblapack3 (needed by openseespy) with sudo"; \
+	  sudo -n apt-get update -qq && sudo -n env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null; \
 	else echo "fvd_bridge: openseespy needs BLAS/LAPACK; run: sudo apt-get install -y libblas3 liblapack3" >&2; exit 2; fi
 
 $(STAMP): pyproject.toml
