@@ -10,7 +10,8 @@ export MPLBACKEND := Agg
 
 # openseespy needs the Debian packages libblas3 and liblapack3.
 sysdeps:
-	@if ldconfig -p | grep -q 'libblas.so.3' && ldconfig -p | grep -q 'liblapack.so.3'; then :; \
+	@libs="$$( (ldconfig -p || /sbin/ldconfig -p) 2>/dev/null)"; \
+	if echo "$$libs" | grep -q 'libblas.so.3' && echo "$$libs" | grep -q 'liblapack.so.3'; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
 	  echo "installing libblas3 liblapack3 (needed by openseespy)"; \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null; \
