@@ -135,3 +135,19 @@ def test_calibration_file_reproduces_its_of(two_devices, tmp_path):
     bad.write_text(yaml.safe_dump(data))
     with pytest.raises(InputError, match="parameters.alpha.unit"):
         read_calibration(str(bad))
+
+
+def test_calibrate_with_plugin_effect(two_devices, tmp_path):
+    from conftest import PLUGIN
+
+    plugin = tmp_path / "my_effects.py"
+    plugin.write_text(PLUGIN)
+    out = tmp_path / "pl"
+    res = calibrate([two_devices[0], "--laws", "2+cubic_spring", "--plugin", str(plugin), "--runs", "2",
+                     "--pop", "8", "--gens", "30", "--out", str(out), "--jobs", "2", "--quiet"])
+    assert res.returncode == 0, res.stderr
+    p = yaml.safe_load(open(out / "params" / "dev_a" / "law2+cubic_spring.yaml"))
+    assert p["effects"] == ["cubic_spring"] and "cubic_spring.K3" in p["parameters"]
+    # the rig device has no cubic spring: the fit leaves it near zero
+    assert abs(p["parameters"]["cubic_spring.K3"]["value"]) < 1e-4
+    assert (out / "figures" / "loops_dev_a_law2+cubic_spring.png").is_file()

@@ -18,7 +18,6 @@ import numpy as np
 
 from .. import __version__
 from ..io.staging import staged_dir, write_csv_rows, write_json, write_yaml
-from ..model import parse_model
 from . import stats
 from .checks import fit_warnings
 
@@ -64,7 +63,7 @@ def _num(x):
 
 
 def _param_file(rec, dev_index: int, spec, summary_model, cs) -> dict:
-    law = parse_model(spec, _plugins(cs)).law
+    law = cs.model(spec).law
     best = summary_model["best"][rec.name]
     return {
         "schema_version": SCHEMA_VERSION,
@@ -153,7 +152,7 @@ def _figures(stage, records, summary, cs):
         for spec in specs:
             m = summary["models"][spec]
             best = m["best"][rec.name]
-            model = parse_model(spec, _plugins(cs))
+            model = cs.model(spec)
             F = model.force(rec, best.params[None, :])[0]
             plots.loops(rec, F, f"{rec.name}, law {spec}: OF {best.of:.4f}",
                         os.path.join(fig_dir, f"loops_{rec.name}_law{spec}.png"))
@@ -165,11 +164,3 @@ def _figures(stage, records, summary, cs):
                          os.path.join(fig_dir, f"dispersion_law{spec}.png"))
     plots.pareto(specs, [M[s]["of_overall"] for s in specs], [M[s]["beta"] for s in specs],
                  [M[s]["non_dominated"] for s in specs], os.path.join(fig_dir, "pareto.png"))
-
-
-def _plugins(cs):
-    if not cs.plugins:
-        return None
-    from ..effects.plugins import load_plugins
-
-    return load_plugins(cs.plugins)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -32,6 +33,12 @@ class CampaignSettings:
         """{name: (lower, upper)} of the --bound options that apply to ``spec``."""
         return {name: (lo, hi) for s, name, lo, hi in self.bound_overrides if s in (None, spec)}
 
+    def model(self, spec: str):
+        """The Model of ``spec``, with this campaign's plugin effects (loaded once per process)."""
+        from ..model import parse_model
+
+        return parse_model(spec, _plugins(self.plugins))
+
     def as_dict(self) -> dict:
         s = settings_for(self.optimizer, self.pop, self.gens, self.stall)
         return {"specs": list(self.specs), "runs": self.runs, "bounds": self.bounds,
@@ -45,15 +52,17 @@ def _task_seed(seed: int, device: int, spec_index: int, run: int) -> list[int]:
     return [seed, device, spec_index, run]
 
 
+@functools.lru_cache(maxsize=None)
+def _plugins(paths: tuple) -> dict | None:
+    if not paths:
+        return None
+    from ..effects.plugins import load_plugins
+
+    return load_plugins(paths)
+
+
 def _fit_one(record, spec, seed, cs: CampaignSettings):
-    from ..model import parse_model
-
-    plugins = None
-    if cs.plugins:
-        from ..effects.plugins import load_plugins
-
-        plugins = load_plugins(cs.plugins)
-    model = parse_model(spec, plugins)
+    model = cs.model(spec)
     settings = settings_for(cs.optimizer, cs.pop, cs.gens, cs.stall)
     overrides = {n: b for n, b in cs.overrides_for(spec).items() if n in model.names}
     return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=seed, settings=settings,
