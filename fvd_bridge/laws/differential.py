@@ -40,8 +40,8 @@ parallel_kernel = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model
 # prove the rows apart, so the lane loops are SIMD without run-time checks.
 Z, FORCE = 0, 1  # every law: z and the force of the current sample [kN]
 A_D, B_Z, C_V, STEP = 2, 3, 4, 5  # laws 6, 8, 9: F = a d + b z + C v; the step's constants from STEP
-C_PHI, RHS, ABS_R, LAM, LAM1, LAM2, LN_R, E1, E2, DLAM, DONE = range(2, 13)  # law 7 state (_maxwell_force)
-LN_C, P, INV_P, LN_K, BETA = range(13, 18)  # law 7 constants
+C_PHI, RHS, ABS_R, LAM, LAM1, LAM2, LN_R, E1, E2, INV_G1, DLAM, DONE = range(2, 14)  # law 7 state
+LN_C, P, INV_P, LN_K, BETA = range(14, 19)  # law 7 constants
 
 
 def _run(driver, wide, d, v, dt, substeps, *columns):
@@ -173,9 +173,10 @@ def law9(d, v, dt, P, substeps=1):
 def _maxwell_first(s, lane, r):
     """Start the solve of x + c sign(x)|x|^p = r in one lane and take the
     first Newton step (``steps.maxwell_start``, ``steps.maxwell_newton``)."""
-    lam0, s[LN_R, lane], R = maxwell_start(r, s[LAM, lane], s[LAM1, lane], s[LAM2, lane], s[LN_R, lane],
-                                           s[LN_C, lane], s[INV_P, lane])
-    lam, s[E1, lane], s[E2, lane], s[DONE, lane] = maxwell_newton(lam0, R, s[LN_C, lane], s[P, lane])
+    lam0, s[LN_R, lane], R = maxwell_start(r, s[ABS_R, lane], s[LAM, lane], s[LAM1, lane], s[LAM2, lane],
+                                           s[LN_R, lane], s[LN_C, lane], s[INV_P, lane])
+    lam, s[E1, lane], s[E2, lane], s[INV_G1, lane], s[DONE, lane] = maxwell_newton(lam0, R, s[LN_C, lane],
+                                                                                   s[P, lane])
     s[RHS, lane], s[ABS_R, lane], s[LAM, lane], s[DLAM, lane] = r, R, lam, lam - lam0
 
 
@@ -184,17 +185,18 @@ def _maxwell_polish(s):
     """Further Newton steps until every lane has converged; a lane that has
     stays put, so its result does not depend on the others."""
     for _ in range(NEWTON_MAXIT):
-        n_moving = 0
+        moving = 0  # an integer 'or' over the lanes, which compiles to SIMD
         for lane in range(s.shape[1]):
-            n_moving += s[DONE, lane] == 0.0
-        if n_moving == 0:
+            moving |= np.int64(s[DONE, lane] == 0.0)
+        if moving == 0:
             return
         for lane in range(s.shape[1]):
-            lam, e1, e2, done = maxwell_newton(s[LAM, lane], s[ABS_R, lane], s[LN_C, lane], s[P, lane])
+            lam, e1, e2, inv_g1, done = maxwell_newton(s[LAM, lane], s[ABS_R, lane], s[LN_C, lane], s[P, lane])
             live = s[DONE, lane] == 0.0
             s[DLAM, lane] = lam - s[LAM, lane] if live else s[DLAM, lane]
             s[E1, lane] = e1 if live else s[E1, lane]
             s[E2, lane] = e2 if live else s[E2, lane]
+            s[INV_G1, lane] = inv_g1 if live else s[INV_G1, lane]
             s[LAM, lane] = lam if live else s[LAM, lane]
             s[DONE, lane] = done if live else 1.0
 
@@ -203,8 +205,8 @@ def _maxwell_polish(s):
 def _maxwell_end(s, lane):
     """Root of the lane's solve (``steps.maxwell_end``), keeping the slopes
     for the next start."""
-    x, s[LAM1, lane], s[LAM2, lane] = maxwell_end(s[RHS, lane], s[E1, lane], s[E2, lane], s[DLAM, lane],
-                                                  s[P, lane])
+    x, s[LAM1, lane], s[LAM2, lane] = maxwell_end(s[RHS, lane], s[E1, lane], s[E2, lane], s[INV_G1, lane],
+                                                  s[DLAM, lane], s[P, lane])
     return x
 
 
@@ -223,7 +225,7 @@ def _maxwell_force(d, v, dt, c, substeps, lanes):
         i0 = block * len(lanes)
         s = _work(c, i0, LN_C, lanes)
         # as after solving r = 0: x = e^LAM_MIN (0 to 1e-304), neutral slopes
-        s[LAM], s[LAM1], s[LN_R], s[E1] = LAM_MIN, 1.0, LAM_MIN, np.exp(LAM_MIN)
+        s[LAM], s[LAM1], s[LN_R], s[E1], s[INV_G1] = LAM_MIN, 1.0, LAM_MIN, np.exp(LAM_MIN), np.exp(-LAM_MIN)
         for k in range(n):
             for j in range(substeps if k > 0 else 0):
                 va, vb = _sub_velocities(v[k - 1], v[k], j, substeps)

@@ -38,9 +38,13 @@ EXP_MAX = 709.0  # vexp saturates above EXP_MAX
 EXP_MIN = -708.0  # and returns 0 below EXP_MIN (where e^x is no longer a normal number)
 SQRT2 = math.sqrt(2.0)
 # Taylor coefficients, highest degree first (Horner)
-EXP_SERIES = tuple(1.0 / math.factorial(j) for j in range(13, -1, -1))  # e^r, |r| <= ln2/2
 RELAX_SERIES = tuple((-1.0) ** j / math.factorial(j + 1) for j in range(11, -1, -1))  # |x| <= 1/4
 ATANH_SERIES = tuple(1.0 / (2 * j + 1) for j in range(10, -1, -1))  # atanh(t)/t in t^2, |t| <= 0.172
+# e^r for |r| <= ln2/2 to degree 12 (truncation < 2e-16), split in four
+# interleaved Horner chains in r^4 (``poly4``): a quarter of the latency
+EXP_SERIES4 = tuple(tuple(1.0 / math.factorial(j) for j in range(12, -1, -1) if j % 4 == k) for k in range(4))
+LOG1P_COARSE = (-0.25, 1.0 / 3.0, -0.5, 1.0, 0.0)  # ln(1 + u) to u^4: error < 2.3e-3 for |u| <= 0.415
+COARSE_LOG_ERROR = 0.01  # bound on |coarse_log(x) - ln x|, with margin
 
 
 @intrinsic
@@ -69,14 +73,24 @@ def horner(x, coeffs):
 
 
 @kernel
+def poly4(x, parts):
+    """Polynomial sum_k x^k P_k(x^4) (``parts`` = P_0..P_3, highest degree
+    first): Horner's rule on four independent chains."""
+    x2 = x * x
+    x4 = x2 * x2
+    p0, p1, p2, p3 = parts
+    return (horner(x4, p0) + x * horner(x4, p1)) + x2 * (horner(x4, p2) + x * horner(x4, p3))
+
+
+@kernel
 def vexp(x):
     """e^x: x = n ln2 + r with |r| <= ln2/2, e^r by its Taylor series to degree
-    13 (truncation < 2e-16), 2^n from the exponent bits.  Saturates at
+    12 (truncation < 2e-16), 2^n from the exponent bits.  Saturates at
     x = 709; 0 for x < -708."""
     xc = min(max(x, EXP_MIN), EXP_MAX)
     n = math.floor(xc * 1.4426950408889634 + 0.5)
     r = (xc - n * LN2_HI) - n * LN2_LO
-    e = horner(r, EXP_SERIES) * _bits_float((np.int64(n) + 1023) << 52)
+    e = poly4(r, EXP_SERIES4) * _bits_float((np.int64(n) + 1023) << 52)
     return e if x >= EXP_MIN else 0.0
 
 
@@ -87,16 +101,28 @@ def _log_kernel(t):
 
 
 @kernel
-def vlog(x):
-    """ln x for a normal x > 0: x = 2^e m with m in [1/sqrt2, sqrt2],
-    ln m = 2 atanh((m - 1)/(m + 1))."""
+def _log_reduce(x):
+    """(e, m) with x = 2^e m, m in [1/sqrt2, sqrt2], for a normal x > 0."""
     b = _float_bits(x)
     e = ((b >> 52) & 0x7FF) - 1023
     m = _bits_float((b & 0x000FFFFFFFFFFFFF) | 0x3FF0000000000000)  # in [1, 2)
     big = m > SQRT2
-    m = 0.5 * m if big else m
-    e = e + 1 if big else e
+    return (e + 1 if big else e), (0.5 * m if big else m)
+
+
+@kernel
+def vlog(x):
+    """ln x for a normal x > 0: x = 2^e m, ln m = 2 atanh((m - 1)/(m + 1))."""
+    e, m = _log_reduce(x)
     return e * LN2_HI + (_log_kernel((m - 1.0) / (m + 1.0)) + e * LN2_LO)
+
+
+@kernel
+def coarse_log(x):
+    """ln x to within COARSE_LOG_ERROR, for a normal x > 0 (no division):
+    x = 2^e m, ln m = ln(1 + u) by its series to u^4."""
+    e, m = _log_reduce(x)
+    return e * LN2_HI + horner(m - 1.0, LOG1P_COARSE)
 
 
 @kernel
@@ -226,17 +252,23 @@ def maxwell_bdf2_rhs(z_gamma, z, v1, h):
 
 
 @kernel
-def maxwell_start(r, lam, lam1, lam2, ln_r_prev, ln_c, inv_p):
+def maxwell_start(r, R_prev, lam, lam1, lam2, ln_r_prev, ln_c, inv_p):
     """Start of the solve of x + c sign(x)|x|^p = r: lam + lam1 dl + lam2 dl^2,
-    dl the change of ln R = ln|r| since the previous solve (lam, lam1, lam2:
-    its root and the derivatives of lam(ln R) there), clipped to the bracket
-    [min(ln(R/2), (ln(R/2) - ln c)/p), min(ln R, (ln R - ln c)/p)] of the root.
-    Returns (lam0, ln R, R); R is floored at R_MIN."""
+    dl = ln(R/R_prev) the change of R = |r| since the previous solve (lam,
+    lam1, lam2: its root and the derivatives of lam(ln R) there), clipped to
+    the bracket [min(ln(R/2), (ln(R/2) - ln c)/p), min(ln R, (ln R - ln c)/p)]
+    of the root, widened by COARSE_LOG_ERROR.  dl = 2 atanh(t),
+    t = (R - R_prev)/(R + R_prev), by its series to t^7 where |t| < 0.1 (error
+    < 3e-10), else the difference of coarse logs (the bracket then decides).
+    Returns (lam0, coarse ln R, R); R is floored at R_MIN."""
     R = max(abs(r), R_MIN)
-    ln_r = vlog(R)
-    dl = ln_r - ln_r_prev
-    upper = min(ln_r, (ln_r - ln_c) * inv_p)
-    lower = min(ln_r - LN2_HI, (ln_r - LN2_HI - ln_c) * inv_p)
+    ln_r = coarse_log(R)
+    t = (R - R_prev) / (R + R_prev)
+    near = abs(t) < 0.1
+    tn = t if near else 0.0
+    dl = 2.0 * tn * horner(tn * tn, (1.0 / 7.0, 0.2, 1.0 / 3.0, 1.0)) if near else ln_r - ln_r_prev
+    upper = min(ln_r, (ln_r - ln_c) * inv_p) + COARSE_LOG_ERROR
+    lower = min(ln_r - LN2_HI, (ln_r - LN2_HI - ln_c) * inv_p) - COARSE_LOG_ERROR
     return max(min(max(lam + dl * (lam1 + lam2 * dl), lower), upper), LAM_MIN), ln_r, R
 
 
@@ -247,27 +279,27 @@ def maxwell_newton(lam, R, ln_c, p):
     2 (S - R)/(S + R) (same root and slope there, and a shorter step, so the
     iterates stay on the convex side).  The error left after a step d is
     about (f''/2f') d^2 + |d|^3/12 (the second term from the replacement),
-    f'' = e1 e2 (p - 1)^2/S^2.  Returns (new lam, e1, e2, converged): whether
-    that error is below NEWTON_TOL (or the step was stopped at LAM_MIN)."""
+    f'' = e1 e2 (p - 1)^2/S^2.  Returns (new lam, e1, e2, 1/(e1 + p e2),
+    converged): whether that error is below NEWTON_TOL (or the step was
+    stopped at LAM_MIN)."""
     e1 = vexp(lam)
     e2 = vexp(ln_c + p * lam)
     s = e1 + e2
     g1 = e1 + p * e2
-    new = max(lam - 2.0 * s * (s - R) / ((s + R) * g1), LAM_MIN)
+    inv = 1.0 / ((s + R) * g1)
+    new = max(lam - 2.0 * s * (s - R) * inv, LAM_MIN)
     d = abs(new - lam)
     converged = e1 * e2 * (p - 1.0) ** 2 * d * d <= (2.0 * NEWTON_TOL - d * d * d / 6.0) * s * g1
-    return new, e1, e2, converged
+    return new, e1, e2, (s + R) * inv, converged
 
 
 @kernel
-def maxwell_end(r, e1, e2, dlam, p):
+def maxwell_end(r, e1, e2, inv_g1, dlam, p):
     """Root x = sign(r) e^lam from the last Newton evaluation (e1 = e^(lam - dlam),
-    e2) and the step dlam taken from it (e^dlam to second order); and the
-    derivatives of lam(ln R) there, lam1 = 1/f' and lam2 = -f''/(2 f'^3),
-    f'' = e1 e2 (p - 1)^2/S^2.  Returns (x, lam1, lam2)."""
+    e2, inv_g1 = 1/(e1 + p e2)) and the step dlam taken from it (e^dlam to
+    second order); and the derivatives of lam(ln R) there, lam1 = 1/f' and
+    lam2 = -f''/(2 f'^3), f'' = e1 e2 (p - 1)^2/S^2.  Returns (x, lam1, lam2)."""
     s = e1 + e2
-    g1 = e1 + p * e2
-    inv_g1 = 1.0 / g1
     lam1 = s * inv_g1
     lam2 = -0.5 * e1 * e2 * (p - 1.0) ** 2 * s * inv_g1 * inv_g1 * inv_g1
     return math.copysign(e1 * (1.0 + dlam * (1.0 + 0.5 * dlam)), r), lam1, lam2
