@@ -12,7 +12,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..laws.steps import bouc_wen_step, lugre_step, powsign, slip_step, split_travel
+from ..laws.steps import (LAM_MIN, bouc_wen_constants, bouc_wen_step, law6_bouc_wen, law8_constants, law9_constants,
+                          linear_force, lugre_step, maxwell_force, maxwell_log_rate, maxwell_solve, powsign, slip_step,
+                          split_travel, vlog)
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = 1.0
@@ -117,67 +119,41 @@ def static_force(code, x, p):
 
 
 @njit(cache=True)
+def law6_constants(p):
+    """Law 6's constants (``steps.bouc_wen_constants``) from its parameter row p."""
+    C, K, alpha, A, beta, gamma = law6_bouc_wen(p[0], p[1], p[2], p[3])
+    return bouc_wen_constants(C, K, alpha, A, beta, gamma)
+
+
+@njit(cache=True, error_model="numpy")  # as the law kernels it inlines: x/0 = inf
 def hysteretic_state(code, z0, u, p, h):
-    """Internal variable z of laws 6-9 after a law travel u [mm] over h [s]
-    (the exact/implicit steps of fvd_bridge.laws.steps)."""
+    """Internal variable z of laws 6-9 after a law travel u [mm] over h [s]:
+    the exact steps of laws 6, 8, 9 (fvd_bridge.laws.steps); law 7 by a
+    backward-Euler step over h, x + h q phi(x) = z0 + u (``steps.maxwell_solve``):
+    the series solve passes the travel of each TR-BDF2 stage, and inside a
+    series spring the law's own dashpot may be arbitrarily stiff."""
     if code == 6:
-        return bouc_wen_step(z0, u, 1.0, p[3], p[3])
+        A, beta, gamma = law6_constants(p)[3:]
+        return bouc_wen_step(z0, u, A, beta, gamma)
     if code == 8:
-        muN = p[2] * p[3]
-        return slip_step(z0, u, p[1] / muN if muN > 0.0 else 0.0)
+        return slip_step(z0, u, law8_constants(p[0], p[1], p[2], p[3])[3])
     if code == 9:
-        return lugre_step(z0, u, p[1])
-    # law 7: spring deformation of the Lu visco-elastic element
-    C, alpha, K, beta = p[0], p[1], p[2], p[3]
-    if C > 0.0 and K > 0.0:
-        q = min(math.exp(math.log(K / C) / alpha), 1e150)
-    else:
-        q = 1e150 if C <= 0.0 else 0.0
-    return maxwell_be_step(z0, u, h, q, beta / alpha)
+        return lugre_step(z0, u, law9_constants(p[0], p[1], p[2])[3])
+    return maxwell_solve(z0 + u, math.log(h) + maxwell_log_rate(p[0], p[1], p[2]), p[3] / p[1])
 
 
-@njit(cache=True)
-def maxwell_be_step(z, u, h, q, p):
-    """Law 7's spring deformation over a step h [s] by backward Euler (L-stable:
-    inside a series spring the law's own dashpot may be arbitrarily stiff):
-
-      dz/dt = v - q sign(z)|z|^p  ->  x + h q phi(x) = z + u,  phi(x) = sign(x)|x|^p,
-
-    u the travel [mm]; the left side increases in x, the root lies between 0
-    and r = z + u (safeguarded Newton)."""
-    c = h * q
-    r = z + u
-    if r == 0.0:
-        return 0.0
-    lo, hi = (0.0, r) if r > 0.0 else (r, 0.0)
-    x = z if lo < z < hi else 0.5 * (lo + hi)
-    for _ in range(100):
-        ax = abs(x)
-        f = x + c * powsign(x, p) - r
-        if f > 0.0:
-            hi = x
-        else:
-            lo = x
-        dfdx = 1.0 + (c * p * ax ** (p - 1.0) if ax > 0.0 else 0.0)
-        xn = x - f / dfdx
-        if not (lo < xn < hi):
-            xn = 0.5 * (lo + hi)
-        if abs(xn - x) <= 1e-13 * (1.0 + abs(xn)):
-            return xn
-        x = xn
-    return x
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")  # as the law kernels it inlines: x/0 = inf
 def hysteretic_force(code, x, z, u, p):
     """Force [kN] of laws 6-9 at law displacement x [mm], state z, velocity u [mm/s]."""
     if code == 6:
-        return p[2] * p[1] * x + (1.0 - p[2]) * p[1] * z + p[0] * u
-    if code == 8:
-        return z * p[2] * p[3] + p[0] * u
-    if code == 9:
-        return p[2] * z + p[0] * u
-    return p[2] * powsign(z, p[3])
+        a, b, C = law6_constants(p)[:3]
+    elif code == 8:
+        a, b, C = law8_constants(p[0], p[1], p[2], p[3])[:3]
+    elif code == 9:
+        a, b, C = law9_constants(p[0], p[1], p[2])[:3]
+    else:  # law 7
+        return maxwell_force(z, vlog(abs(z)) if z != 0.0 else LAM_MIN, vlog(max(p[2], 1e-300)), p[3])
+    return linear_force(a, b, C, x, z, u)
 
 
 @njit(cache=True)

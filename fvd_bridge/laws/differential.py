@@ -17,9 +17,9 @@ import os
 import numpy as np
 from numba import njit, prange
 
-from .steps import (FASTMATH, LAM_MIN, NEWTON_MAXIT, bouc_wen_step, kernel, lugre_step, maxwell_bdf2_rhs,
-                    maxwell_end, maxwell_force, maxwell_log_c, maxwell_newton, maxwell_start, maxwell_tr_rhs,
-                    slip_step, split_travel)
+from .steps import (FASTMATH, LAM_MIN, NEWTON_MAXIT, bouc_wen_constants, bouc_wen_step, kernel, law6_bouc_wen, law7_constants,
+                    law8_constants, law9_constants, linear_force, lugre_step, maxwell_bdf2_rhs, maxwell_end,
+                    maxwell_force, maxwell_newton, maxwell_start, maxwell_tr_rhs, slip_step, split_travel)
 
 # OpenMP threads busy-wait between parallel regions by default, taking the CPU
 # that the GA's own Python code and other processes need; on a busy 2-core
@@ -35,18 +35,21 @@ LANES_32, LANES_16, LANES_1 = (0.0,) * 32, (0.0,) * 16, (0.0,)
 NARROW_BELOW = 4
 parallel_kernel = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model="numpy")
 
-# Rows of a block's work array (one value per member): the state, then the
-# per-member constants.  One array allocated in the driver lets the compiler
+# Rows of a block's work array (one value per member): the state, the
+# per-member constants (from ``steps.lawN_constants``) and, last, the member's
+# parameters as given.  One array allocated in the driver lets the compiler
 # prove the rows apart, so the lane loops are SIMD without run-time checks.
 Z, FORCE = 0, 1  # every law: z and the force of the current sample [kN]
 A_D, B_Z, C_V, STEP = 2, 3, 4, 5  # laws 6, 8, 9: F = a d + b z + C v; the step's constants from STEP
+TRAVEL_PARS = 8  # laws 6, 8, 9: first parameter row
 C_PHI, RHS, ABS_R, LAM, LAM1, LAM2, LN_R, E1, E2, INV_G1, DLAM, DONE = range(2, 14)  # law 7 state
 LN_C, P, INV_P, LN_K, BETA = range(14, 19)  # law 7 constants
+MAXWELL_PARS = 19  # law 7: first parameter row (C, alpha, K, beta)
 
 
 def _run(driver, wide, d, v, dt, substeps, *columns):
-    """driver(d, v, dt, c, substeps, lanes) on the table c (n_const, n) of the
-    per-member constant columns, n padded to whole blocks (of len(wide)
+    """driver(d, v, dt, c, substeps, lanes) on the table c (n_par, n) of the
+    members' parameter columns, n padded to whole blocks (of len(wide)
     members, or 1) by repeating the last member; returns F (pop, n_t) [kN]."""
     table = np.vstack(np.broadcast_arrays(*[np.asarray(col, dtype=float) for col in columns]))
     pop = table.shape[1]
@@ -84,17 +87,19 @@ def _sub_velocities(v0, v1, j, m):
 # --- laws 6, 8, 9: rate-independent, exact for v linear between samples -----
 
 @njit(inline="always")
-def _travel_force(d, v, dt, c, substeps, lanes, advance):
-    """F = a d + b z + C v [kN] (c rows 0-2), z from 0 moved by ``advance(s, u)``
-    over each travel u of one sign (a step's travel is split where v changes
-    sign).  Inlined into each law's driver, which fixes ``advance`` (a
-    function argument would defeat numba's cache)."""
+def _travel_force(d, v, dt, c, substeps, lanes, setup, advance):
+    """F = a d + b z + C v [kN] (``steps.linear_force``), the constants set by
+    ``setup(s)`` from the parameters, z from 0 moved by ``advance(s, u)`` over
+    each travel u of one sign (a step's travel is split where v changes
+    sign).  Inlined into each law's driver, which fixes ``setup`` and
+    ``advance`` (function arguments would defeat numba's cache)."""
     n_lanes, n = c.shape[1], d.size
     F = np.empty((n_lanes, n))
     h = dt / substeps
     for block in prange(n_lanes // len(lanes)):
         i0 = block * len(lanes)
-        s = _work(c, i0, A_D, lanes)
+        s = _work(c, i0, TRAVEL_PARS, lanes)
+        setup(s)
         for k in range(n):
             for j in range(substeps if k > 0 else 0):
                 va, vb = _sub_velocities(v[k - 1], v[k], j, substeps)
@@ -102,9 +107,19 @@ def _travel_force(d, v, dt, c, substeps, lanes, advance):
                     if u != 0.0:
                         advance(s, u)
             for lane in range(s.shape[1]):
-                s[FORCE, lane] = s[A_D, lane] * d[k] + s[B_Z, lane] * s[Z, lane] + s[C_V, lane] * v[k]
+                s[FORCE, lane] = linear_force(s[A_D, lane], s[B_Z, lane], s[C_V, lane], d[k], s[Z, lane], v[k])
             _store(F, k, s, i0)
     return F
+
+
+@kernel
+def _bouc_wen_setup(s):
+    """Each lane's constants from its parameters (C, K, alpha, A, beta, gamma)."""
+    q = TRAVEL_PARS
+    for lane in range(s.shape[1]):
+        (s[A_D, lane], s[B_Z, lane], s[C_V, lane], s[STEP, lane], s[STEP + 1, lane],
+         s[STEP + 2, lane]) = bouc_wen_constants(s[q, lane], s[q + 1, lane], s[q + 2, lane], s[q + 3, lane],
+                                                 s[q + 4, lane], s[q + 5, lane])
 
 
 @kernel
@@ -115,22 +130,29 @@ def _bouc_wen_advance(s, u):
 
 @parallel_kernel
 def _bouc_wen_force(d, v, dt, c, substeps, lanes):
-    return _travel_force(d, v, dt, c, substeps, lanes, _bouc_wen_advance)
+    return _travel_force(d, v, dt, c, substeps, lanes, _bouc_wen_setup, _bouc_wen_advance)
 
 
 def bouc_wen_force(d, v, dt, C, K, alpha, A, beta, gamma, substeps=1):
     """Bouc-Wen element (n = 1, ``steps.bouc_wen_step``) + viscous:
-    F = alpha K d + (1 - alpha) K z + C v (paper eq. 8).  Parameters are arrays
-    of length pop (or scalars): C [kN/(mm/s)], K [kN/mm], alpha [-], A [-],
+    ``steps.bouc_wen_constants`` (paper eq. 8).  Parameters are arrays of
+    length pop (or scalars): C [kN/(mm/s)], K [kN/mm], alpha [-], A [-],
     beta and gamma [1/mm].  Returns F (pop, n_t) [kN]."""
-    C, K, alpha = (np.asarray(x, dtype=float) for x in (C, K, alpha))
-    return _run(_bouc_wen_force, LANES_32, d, v, dt, substeps,
-                alpha * K, (1.0 - alpha) * K, C, A, beta, gamma)
+    return _run(_bouc_wen_force, LANES_32, d, v, dt, substeps, C, K, alpha, A, beta, gamma)
 
 
 def law6(d, v, dt, P, substeps=1):
-    """Bouc-Wen + viscous with A = n = 1, beta = gamma (paper section 2.6)."""
-    return bouc_wen_force(d, v, dt, P[:, 0], P[:, 1], P[:, 2], 1.0, P[:, 3], P[:, 3], substeps)
+    """Bouc-Wen + viscous with A = n = 1, beta = gamma (``steps.law6_bouc_wen``)."""
+    return bouc_wen_force(d, v, dt, *law6_bouc_wen.py_func(*P.T), substeps=substeps)
+
+
+@kernel
+def _slip_setup(s):
+    """Each lane's constants from its parameters (C, K, mu, N)."""
+    q = TRAVEL_PARS
+    for lane in range(s.shape[1]):
+        s[A_D, lane], s[B_Z, lane], s[C_V, lane], s[STEP, lane] = law8_constants(
+            s[q, lane], s[q + 1, lane], s[q + 2, lane], s[q + 3, lane])
 
 
 @kernel
@@ -141,14 +163,21 @@ def _slip_advance(s, u):
 
 @parallel_kernel
 def _slip_force(d, v, dt, c, substeps, lanes):
-    return _travel_force(d, v, dt, c, substeps, lanes, _slip_advance)
+    return _travel_force(d, v, dt, c, substeps, lanes, _slip_setup, _slip_advance)
 
 
 def law8(d, v, dt, P, substeps=1):
-    """Lu unified friction + viscous: F = z mu N + C v (eqs. 12-13), z = ``steps.slip_step``."""
-    C, K, mu_N = P[:, 0], P[:, 1], P[:, 2] * P[:, 3]
-    k_slip = np.divide(K, mu_N, out=np.zeros_like(K), where=mu_N > 0.0)
-    return _run(_slip_force, LANES_32, d, v, dt, substeps, 0.0, mu_N, C, k_slip)
+    """Lu unified friction + viscous (``steps.law8_constants``, ``steps.slip_step``)."""
+    return _run(_slip_force, LANES_32, d, v, dt, substeps, *P.T)
+
+
+@kernel
+def _lugre_setup(s):
+    """Each lane's constants from its parameters (C, alpha, beta)."""
+    q = TRAVEL_PARS
+    for lane in range(s.shape[1]):
+        s[A_D, lane], s[B_Z, lane], s[C_V, lane], s[STEP, lane] = law9_constants(
+            s[q, lane], s[q + 1, lane], s[q + 2, lane])
 
 
 @kernel
@@ -159,12 +188,12 @@ def _lugre_advance(s, u):
 
 @parallel_kernel
 def _lugre_force(d, v, dt, c, substeps, lanes):
-    return _travel_force(d, v, dt, c, substeps, lanes, _lugre_advance)
+    return _travel_force(d, v, dt, c, substeps, lanes, _lugre_setup, _lugre_advance)
 
 
 def law9(d, v, dt, P, substeps=1):
-    """LuGre with eps = K = F0 = 0: F = beta z + C v (eqs. 14-15), z = ``steps.lugre_step``."""
-    return _run(_lugre_force, LANES_32, d, v, dt, substeps, 0.0, P[:, 2], P[:, 0], P[:, 1])
+    """LuGre with eps = K = F0 = 0 (``steps.law9_constants``, ``steps.lugre_step``)."""
+    return _run(_lugre_force, LANES_32, d, v, dt, substeps, *P.T)
 
 
 # --- law 7: TR-BDF2 (steps.py) -------------------------------------------------
@@ -212,8 +241,8 @@ def _maxwell_end(s, lane):
 
 @parallel_kernel
 def _maxwell_force(d, v, dt, c, substeps, lanes):
-    """Law 7 for the constant table c (rows ln c, p, 1/p, ln K, beta):
-    F (n_lanes, n_t) [kN].  State rows: z, c phi(z) = r - z, and of the last
+    """Law 7 for the parameter table c (rows C, alpha, K, beta): F (n_lanes,
+    n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K, beta.  State rows: z, c phi(z) = r - z, and of the last
     solve its right side r, |r|, ln|x|, the slopes of ln|x|(ln|r|) and the
     last Newton evaluation (e1, e2, step, converged).  Each solve step appears
     once in the code (a loop over the two stages; a solve's root is taken at
@@ -223,7 +252,11 @@ def _maxwell_force(d, v, dt, c, substeps, lanes):
     h = dt / substeps
     for block in prange(n_lanes // len(lanes)):
         i0 = block * len(lanes)
-        s = _work(c, i0, LN_C, lanes)
+        s = _work(c, i0, MAXWELL_PARS, lanes)
+        q = MAXWELL_PARS
+        for lane in range(s.shape[1]):
+            s[LN_C, lane], s[P, lane], s[INV_P, lane], s[LN_K, lane], s[BETA, lane] = law7_constants(
+                s[q, lane], s[q + 1, lane], s[q + 2, lane], s[q + 3, lane], h)
         # as after solving r = 0: x = e^LAM_MIN (0 to 1e-304), neutral slopes
         s[LAM], s[LAM1], s[LN_R], s[E1], s[INV_G1] = LAM_MIN, 1.0, LAM_MIN, np.exp(LAM_MIN), np.exp(-LAM_MIN)
         for k in range(n):
@@ -246,6 +279,4 @@ def _maxwell_force(d, v, dt, c, substeps, lanes):
 
 def law7(d, v, dt, P, substeps=1):
     """Lu unified visco-elastic: F = K sign(z)|z|^beta (eqs. 10-11), z the spring deformation."""
-    C, alpha, K, beta = P.T
-    ln_c, ln_K = maxwell_log_c(C, alpha, K, dt / substeps), np.log(np.maximum(K, 1e-300))
-    return _run(_maxwell_force, LANES_16, d, v, dt, substeps, ln_c, beta / alpha, alpha / beta, ln_K, beta)
+    return _run(_maxwell_force, LANES_16, d, v, dt, substeps, *P.T)

@@ -204,6 +204,54 @@ def slip_step(z, u, k):
     return min(max(z + k * u, -1.0), 1.0)
 
 
+# --- the differential laws' constants and force from the paper's parameters -
+# Used by the population drivers (differential.py) and by the effects' scalar
+# kernels, so that each law's equations are written here only.
+
+@kernel
+def bouc_wen_constants(C, K, alpha, A, beta, gamma):
+    """Bouc-Wen element + viscous (paper eq. 8): F = a d + b z + C v with
+    a = alpha K, b = (1 - alpha) K [kN/mm]; returns (a, b, C, A, beta, gamma),
+    the last three for ``bouc_wen_step``."""
+    return alpha * K, (1.0 - alpha) * K, C, A, beta, gamma
+
+
+@kernel
+def law6_bouc_wen(C, K, alpha, beta):
+    """Law 6 (section 2.6) as the Bouc-Wen element's parameters
+    (C, K, alpha, A, beta, gamma): A = n = 1 and gamma = beta."""
+    return C, K, alpha, 1.0, beta, beta
+
+
+@kernel
+def law8_constants(C, K, mu, N):
+    """Law 8 (eqs. 12-13): F = mu N z + C v; returns (0, mu N, C, k), k = K/(mu N)
+    [1/mm] the slip element's stiffness for ``slip_step`` (0 where mu N = 0)."""
+    mu_N = mu * N
+    return 0.0, mu_N, C, (K / mu_N if mu_N > 0.0 else 0.0)
+
+
+@kernel
+def law9_constants(C, alpha, beta):
+    """Law 9 (eqs. 14-15, eps = K = F0 = 0): F = beta z + C v; returns
+    (0, beta, C, alpha), alpha [1/mm] the LuGre rate for ``lugre_step``."""
+    return 0.0, beta, C, alpha
+
+
+@kernel
+def linear_force(a, b, C, d, z, v):
+    """F = a d + b z + C v [kN]: laws 6, 8 and 9 with their constants."""
+    return a * d + b * z + C * v
+
+
+@kernel
+def maxwell_log_rate(C, alpha, K):
+    """ln q of law 7, q = (K/C)^(1/alpha) (paper eq. 11), clipped to +-700
+    (C = 0: a rigid dashpot, K = 0: no spring)."""
+    ln_ratio = vlog(max(K, 1e-300)) - vlog(max(C, 1e-300))
+    return min(max(ln_ratio / alpha, -700.0), 700.0)
+
+
 # --- law 7: Lu visco-elastic spring deformation, TR-BDF2 ------------------
 #
 # dz/dt = v - q sign(z)|z|^p,  q = (K/C)^(1/alpha), p = beta/alpha (paper eq. 11).
@@ -226,12 +274,13 @@ NEWTON_TOL = 1e-10  # a solve stops once the error estimate of ln|x| is below
 NEWTON_MAXIT = 50
 
 
-def maxwell_log_c(C, alpha, K, h):
-    """ln c = ln(gamma h/2) + ln(K/C)/alpha, clipped to +-700 (c = gamma h q/2,
-    q = (K/C)^(1/alpha)); numpy arrays, h [s]."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ln_q = np.nan_to_num(np.log(np.asarray(K) / np.asarray(C)) / np.asarray(alpha))
-    return np.clip(math.log(0.5 * TRBDF2_GAMMA * h) + ln_q, -700.0, 700.0)
+@kernel
+def law7_constants(C, alpha, K, beta, h):
+    """Constants of the TR-BDF2 solves over a step h [s]: (ln c, p, 1/p, ln K,
+    beta), c = gamma h q/2, p = beta/alpha."""
+    p = beta / alpha
+    return (math.log(0.5 * TRBDF2_GAMMA * h) + maxwell_log_rate(C, alpha, K), p, 1.0 / p,
+            vlog(max(K, 1e-300)), beta)
 
 
 @kernel
@@ -303,6 +352,23 @@ def maxwell_end(r, e1, e2, inv_g1, dlam, p):
     lam1 = s * inv_g1
     lam2 = -0.5 * e1 * e2 * (p - 1.0) ** 2 * s * inv_g1 * inv_g1 * inv_g1
     return math.copysign(e1 * (1.0 + dlam * (1.0 + 0.5 * dlam)), r), lam1, lam2
+
+
+@kernel
+def maxwell_solve(r, ln_c, p):
+    """Root x of x + c sign(x)|x|^p = r without a previous solve to start from
+    (scalar code): Newton (``maxwell_newton``) from the upper end of the
+    bracket, where the iterates approach the root from one side."""
+    R = max(abs(r), R_MIN)
+    ln_r = vlog(R)
+    lam = max(min(ln_r, (ln_r - ln_c) / p), LAM_MIN)
+    e1, e2, inv_g1, dlam = 0.0, 0.0, 1.0, 0.0
+    for _ in range(NEWTON_MAXIT):
+        new, e1, e2, inv_g1, done = maxwell_newton(lam, R, ln_c, p)
+        dlam, lam = new - lam, new
+        if done:
+            break
+    return maxwell_end(r, e1, e2, inv_g1, dlam, p)[0] if r != 0.0 else 0.0
 
 
 @kernel
