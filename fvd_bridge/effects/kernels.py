@@ -12,9 +12,10 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..laws.steps import (LAM_MIN, bouc_wen_constants, bouc_wen_step, law6_bouc_wen, law8_constants, law9_constants,
-                          linear_force, lugre_step, maxwell_force, maxwell_log_rate, maxwell_solve, powsign, slip_step,
-                          split_travel, vlog)
+from ..laws.steps import (LAM_MIN, algebraic_force, algebraic_form, bouc_wen_constants, bouc_wen_step,
+                          law6_bouc_wen, law8_constants, law9_constants, linear_force, lugre_step, maxwell_force,
+                          maxwell_log_rate, maxwell_solve, power_term, powsign, sign_log, slip_step, split_travel,
+                          vlog)
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = 1.0
@@ -103,19 +104,16 @@ ALPHA_MIN = 1e-3
 
 
 @njit(cache=True)
-def static_force(code, x, p):
-    """Rate-independent spring part S(x) [kN] of laws 3-5 and its slope dS/dx."""
-    if code == 3:
-        return p[2] * x, p[2]
-    if code == 4:
-        return p[2] * x + p[3] * x * x, p[2] + 2.0 * p[3] * x
-    if code == 5:
-        ax = abs(x)
-        if ax == 0.0:
-            return 0.0, 0.0
-        s = p[2] * math.copysign(ax ** p[3], x)
-        return s, p[3] * abs(s) / ax
-    return 0.0, 0.0
+def algebraic_law(code, x, u, p):
+    """Force [kN] of law ``code`` (1-5; ``steps.algebraic_force``) at law
+    displacement x [mm] and velocity u [mm/s], and the slope dS/dx of its
+    rate-independent part S = K1 x + K2 x^2 + K sign(x)|x|^beta."""
+    C, alpha, K1, K2, K, beta = algebraic_form(code, p)
+    sign_u, log_u = sign_log(u)
+    sign_x, log_x = sign_log(x)
+    F = algebraic_force(C, alpha, K1, K2, K, beta, x, sign_u, log_u, sign_x, log_x)
+    dS = K1 + 2.0 * K2 * x + (beta * power_term(K, 1.0, log_x, beta - 1.0) if x != 0.0 else 0.0)
+    return F, dS
 
 
 @njit(cache=True)
@@ -191,12 +189,7 @@ def element_force(code, p, x, x0, u, z0, h, r, hf, Ff):
     force with asymmetry and heating (the orifice force), z the law state."""
     z = z0
     if code <= 5:
-        S, dS = static_force(code, x, p)
-        if code == 1:
-            Fl = p[0] * u
-        else:
-            Fl = p[0] * powsign(u, p[1]) + S
-        dFdx = dS
+        Fl, dFdx = algebraic_law(code, x, u, p)
     else:
         z = hysteretic_state(code, z0, x - x0, p, h)
         Fl = hysteretic_force(code, x, z, u, p)

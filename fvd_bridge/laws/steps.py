@@ -1,10 +1,13 @@
-"""Scalar one-step updates of the internal variable z of the differential laws.
+"""The nine laws' equations as scalar functions, each written once here.
 
-Each update is written once here and applied, lane by lane, by the population
-drivers in ``differential.py``: plain arithmetic without data-dependent
-branches or C-library calls, which the compiler turns into SIMD code over a
-block of population members, and which ports line by line to C (the FMU).
-The input is the displacement travel u = integral of v dt over the step [mm],
+The algebraic laws' force (1-5), the differential laws' constants from the
+paper's parameters, their force and the one-step updates of their internal
+variable z (6-9).  The population drivers (``algebraic.py``,
+``differential.py``) apply them member by member, or lane by lane over a
+SIMD block, and the effects' scalar kernels (a law behind a series spring)
+call them directly; plain arithmetic, mostly without data-dependent branches
+or C-library calls, which ports line by line to C (the FMU).  The input of
+a step is the displacement travel u = integral of v dt over the step [mm],
 with v linear between samples; the rate-independent laws (6, 8, 9) are
 integrated exactly for such an input, law 7 (rate-dependent and stiff) by the
 L-stable TR-BDF2 rule.
@@ -202,6 +205,46 @@ def slip_step(z, u, k):
     """Lu friction element (paper eq. 13, exact): dz/dt = k v while |z| < 1 or
     z v < 0, else 0; an elastic-perfectly-plastic element with z held in [-1, 1]."""
     return min(max(z + k * u, -1.0), 1.0)
+
+
+# --- the algebraic laws 1-5 ----------------------------------------------------
+
+@kernel
+def algebraic_form(code, p):
+    """Law ``code`` (1-5) with parameters p as the general algebraic law's
+    (C, alpha, K1, K2, K, beta) (``algebraic_force``; paper eqs. 1, 2, 5, 6, 7)."""
+    if code == 1:
+        return p[0], 1.0, 0.0, 0.0, 0.0, 1.0
+    if code == 2:
+        return p[0], p[1], 0.0, 0.0, 0.0, 1.0
+    if code == 3:
+        return p[0], p[1], p[2], 0.0, 0.0, 1.0
+    if code == 4:
+        return p[0], p[1], p[2], p[3], 0.0, 1.0
+    return p[0], p[1], 0.0, 0.0, p[2], p[3]
+
+
+@kernel
+def power_term(c, sign_x, log_abs_x, e):
+    """c sign(x)|x|^e from sign(x) and ln|x| (ln 0 = -1e300, so 0^e = 0 for
+    e > 0 and sign 0 makes e = 0 vanish): the generalized viscous term
+    (eq. 2) and law 5's spring (eq. 7)."""
+    return c * sign_x * math.exp(e * log_abs_x)
+
+
+@kernel
+def algebraic_force(C, alpha, K1, K2, K, beta, d, sign_v, log_v, sign_d, log_d):
+    """F = C sign(v)|v|^alpha + K1 d + K2 d^2 + K sign(d)|d|^beta [kN], d [mm],
+    v [mm/s] given by their signs and logs (``power_term``)."""
+    f = power_term(C, sign_v, log_v, alpha) + K1 * d + K2 * d * d
+    return f + power_term(K, sign_d, log_d, beta) if K != 0.0 else f
+
+
+@kernel
+def sign_log(x):
+    """(sign x, ln|x|), ln 0 = -1e300 (``power_term``)."""
+    ax = abs(x)
+    return (1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)), (math.log(ax) if ax > 0.0 else -1e300)
 
 
 # --- the differential laws' constants and force from the paper's parameters -
