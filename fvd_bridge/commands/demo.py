@@ -48,8 +48,8 @@ def run(args) -> int:
                           runs=args.runs or 20, optimizer=args.optimizer,
                           seed=args.seed, pop=QUICK["pop"] if quick else None,
                           gens=QUICK["gens"] if quick else None, jobs=args.jobs)
-    mode = ("QUICK settings (--quick: small optimizer population and generations; the full run takes over "
-            "5 minutes on 2 cores, `fvd-bridge demo` without --quick runs it)" if quick
+    mode = ("QUICK settings (--quick: small optimizer population and generations; `fvd-bridge demo` "
+            "without --quick runs the full settings)" if quick
             else "full settings (20 runs, default optimizer settings)")
     print(f"demo: {len(records)} virtual devices, paper protocol (10 cycles, 40 mm, 0.5 m/s), records in "
           f"{rec_dir}/; 9 laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
