@@ -17,9 +17,10 @@ import os
 import numpy as np
 from numba import njit, prange
 
-from .steps import (FASTMATH, LAM_MIN, NEWTON_MAXIT, bouc_wen_constants, bouc_wen_step, kernel, law6_bouc_wen, law7_constants,
-                    law8_constants, law9_constants, linear_force, lugre_step, maxwell_bdf2_rhs, maxwell_end,
-                    maxwell_force, maxwell_newton, maxwell_start, maxwell_tr_rhs, slip_step, split_travel)
+from .steps import (FASTMATH, LAM_MIN, NEWTON_MAXIT, bouc_wen_constants, bouc_wen_step, kernel, law6_bouc_wen,
+                    law7_constants, law8_constants, law9_constants, linear_force, lugre_step, maxwell_bdf2_rhs,
+                    maxwell_end, maxwell_force, maxwell_newton, maxwell_start, maxwell_tr_rhs, slip_step,
+                    split_travel)
 
 # OpenMP threads busy-wait between parallel regions by default, taking the CPU
 # that the GA's own Python code and other processes need; on a busy 2-core
@@ -242,9 +243,10 @@ def _maxwell_end(s, lane):
 @parallel_kernel
 def _maxwell_force(d, v, dt, c, substeps, lanes):
     """Law 7 for the parameter table c (rows C, alpha, K, beta): F (n_lanes,
-    n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K, beta.  State rows: z, c phi(z) = r - z, and of the last
-    solve its right side r, |r|, ln|x|, the slopes of ln|x|(ln|r|) and the
-    last Newton evaluation (e1, e2, step, converged).  Each solve step appears
+    n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K,
+    beta.  State rows: z, c phi(z) = r - z, and of the last solve its right
+    side r, |r|, a coarse ln|r|, ln|x|, the slopes of ln|x|(ln|r|) and the
+    last Newton evaluation (e1, e2, 1/(e1 + p e2), step, converged).  Each solve step appears
     once in the code (a loop over the two stages; a solve's root is taken at
     the start of the next one), which halves numba's compile time."""
     n_lanes, n = c.shape[1], d.size
