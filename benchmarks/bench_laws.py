@@ -23,7 +23,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from fvd_bridge.laws import LAWS
-from fvd_bridge.laws.golden import REFERENCE as NOMINAL  # a realistic parameter set per law
+from fvd_bridge.golden import REFERENCE as NOMINAL  # a realistic parameter set per law
 
 DT, N = 0.002, 2500  # [s], samples
 AMPLITUDE, V_PEAK = 40.0, 500.0  # [mm], [mm/s]

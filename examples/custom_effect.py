@@ -67,17 +67,17 @@ EFFECTS = [
 
 def main() -> int:
     from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
-    from fvd_bridge.effects.plugins import load_plugins
+    from fvd_bridge.catalog import catalog
     from fvd_bridge.records import Record
     from fvd_bridge.rig import Device, Noise, acceptance, simulate
 
-    plugins = load_plugins([__file__])  # exactly what --plugin does
+    cat = catalog([__file__])  # exactly what --plugin does
     rec = simulate(Device(C=45.4, alpha=0.3), acceptance(dt=0.005, cycles=2), Noise(1.0), seed=3,
                    name="stribeck_demo")
     extra = stribeck_force(np.array([[15.0]]), rec.t, rec.d[None, :], rec.v[None, :], rec.a[None, :])[0]
     rec = Record(rec.t, rec.d, rec.F + extra, rec.v, rec.a, name=rec.name, provenance=rec.provenance)
     print("a virtual 300 kN damper with 15 kN of Stribeck friction, diagnosed with law 2:\n")
-    diag = diagnose(rec, "2", plugins, seed=0, settings=diagnose_settings(8, 80, 800))
+    diag = diagnose(rec, "2", seed=0, settings=diagnose_settings(8, 80, 800), catalog=cat)
     print(format_diagnosis(diag))
     top = diag.candidates[0]
     print(f"\nranked first: {top.effect} (Fs = {top.fit.params[-1]:.3g} kN, planted 15 kN)")

@@ -1,69 +1,227 @@
-"""Reading a calibrated parameter file (params/<device>/law<SPEC>.yaml).
+"""The calibration file: one calibrated model of one device, the contract
+between identification and every exporter (OpenSees, FMU, frames, compare).
 
-This is the one file the exporters (OpenSeesPy, FMU) read.  Schema version 1
-is written by fvd_bridge.campaign.outputs; a file is checked against it and
-refused with a one-line message naming the file and key.
+This module owns the schema: ``Calibration.save`` writes it,
+``Calibration.load`` reads it (schema_version 2, and 1 as written by
+fvd_bridge 0.1) and refuses a malformed file with a one-line message naming
+the file and key.  Schema 2 (YAML; kN, mm, s)::
+
+    schema_version: 2
+    kind: fvd_bridge.calibration
+    fvd_bridge_version: '0.2.0'
+    model: 2+friction                    # the spec: law number + effects
+    law: {number, name, equation, source}
+    effects: [{name, equation}, ...]
+    units: {force: kN, displacement: mm, time: s}
+    parameters:                          # model order: the law's, then 'effect.param'
+      C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs}
+    derived:                             # quantities of the parameters (law 8: mu*N)
+      mu*N: {value, unit, description}
+    of: 0.0123                           # eq. 18 on the calibration record
+    of_mean_over_runs, of_sigma_over_runs
+    record:                              # provenance of the calibration record
+      name, file, format, samples, dt [s], columns {t, d, F[, v]},
+      source_units {t, d, F[, v]}, velocity {method, ...}, peaks {F [kN], v [mm/s], d [mm]}
+    settings: {...}                      # optimizer, bounds, seed, plugins, ...
+    warnings: [...]
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import os
+from dataclasses import dataclass, field
 
 import numpy as np
 import yaml
 
+from . import __version__
 from .errors import InputError
-from .model import Model, parse_model
 
-SUPPORTED_SCHEMAS = (1,)
+SCHEMA_VERSION = 2
+READABLE_SCHEMAS = (1, 2)
+KIND = "fvd_bridge.calibration"
+UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
 
 
-@dataclass(frozen=True)
+@dataclass
 class Calibration:
-    """A model with its calibrated parameter vector (model order) and the file's metadata."""
+    """A calibrated model: the Model, its parameter vector (model order) with
+    bounds and run statistics, the OF, where the record came from, the settings
+    and the fit warnings."""
 
-    model: Model
+    model: object  # fvd_bridge.model.Model
     params: np.ndarray
     of: float
-    source: dict
+    bounds: np.ndarray | None = None
+    record: dict = field(default_factory=dict)
+    settings: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+    runs: dict = field(default_factory=dict)  # of_mean, of_sigma, p_mean, p_sigma over runs
+    path: str | None = None  # the file it was read from
+
+    @property
+    def spec(self) -> str:
+        return self.model.spec
 
     def named(self) -> dict:
+        """{parameter name: value} in the model's units."""
         return dict(zip(self.model.names, map(float, self.params)))
 
+    def derived(self) -> dict:
+        """{name: (value, unit)}: law 8's slip force mu*N [kN]."""
+        return self.model.derived(self.params)
 
-def read_calibration(path: str, plugins: dict | None = None) -> Calibration:
-    """Load and check a calibrated parameter file."""
+    def force(self, record, substeps: int = 1) -> np.ndarray:
+        """The calibrated model's force [kN] on ``record`` (n_t,)."""
+        return self.model.force(record, self.params[None, :], substeps)[0]
+
+    @classmethod
+    def from_fit(cls, model, fit, record, settings: dict | None = None, warnings=(), runs: dict | None = None):
+        """From a FitResult of ``model`` on ``record`` (fvd_bridge.records.Record)."""
+        return cls(model, np.asarray(fit.params, dtype=float), float(fit.of), np.asarray(fit.bounds, dtype=float),
+                   record_provenance(record), dict(settings or {}), list(warnings), dict(runs or {}))
+
+    def to_dict(self) -> dict:
+        """The schema-2 mapping (see the module docstring)."""
+        law = self.model.law
+        bounds = self.bounds if self.bounds is not None else np.full((len(self.params), 2), np.nan)
+        p_mean = self.runs.get("p_mean", self.params)
+        p_sigma = self.runs.get("p_sigma", np.zeros(len(self.params)))
+        derived_info = {d.name: d.description for d in law.derived}
+        return {
+            "schema_version": SCHEMA_VERSION,
+            "kind": KIND,
+            "fvd_bridge_version": __version__,
+            "model": self.spec,
+            "law": {"number": law.number, "name": law.name, "equation": law.equation, "source": law.source},
+            "effects": [{"name": e.name, "equation": e.equation} for e in self.model.effects],
+            "units": dict(UNITS),
+            "parameters": {
+                n: {"value": float(v), "unit": u, "bounds": [_num(lo), _num(hi)],
+                    "mean_over_runs": float(m), "sigma_over_runs": float(s)}
+                for n, u, v, (lo, hi), m, s in zip(self.model.names, self.model.units, self.params, bounds,
+                                                   p_mean, p_sigma)},
+            "derived": {name: {"value": value, "unit": unit, "description": derived_info[name]}
+                        for name, (value, unit) in self.derived().items()},
+            "of": float(self.of),
+            "of_mean_over_runs": float(self.runs.get("of_mean", self.of)),
+            "of_sigma_over_runs": float(self.runs.get("of_sigma", 0.0)),
+            "record": _plain(self.record),
+            "settings": _plain(self.settings),
+            "warnings": [str(w) for w in self.warnings],
+        }
+
+    def save(self, path: str) -> str:
+        """Write the file atomically (a temporary file renamed into place); returns ``path``."""
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        tmp = f"{path}.partial-{os.getpid()}"
+        try:
+            with open(tmp, "w") as fh:
+                yaml.safe_dump(self.to_dict(), fh, sort_keys=False, width=100)
+            os.replace(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+        return path
+
+    @classmethod
+    def load(cls, path: str, catalog=None) -> "Calibration":
+        """Read and check a calibration file (schema 1 or 2); plugin effects come
+        from ``catalog`` or from the plugin files named in its settings."""
+        data = _read_yaml(path)
+        if not isinstance(data, dict) or data.get("kind") != KIND:
+            raise InputError(f"{path}: not an fvd_bridge calibration file (key 'kind')")
+        if data.get("schema_version") not in READABLE_SCHEMAS:
+            raise InputError(f"{path}: key 'schema_version': {data.get('schema_version')!r} is not supported "
+                             f"(supported: {', '.join(map(str, READABLE_SCHEMAS))})")
+        settings = data.get("settings") or {}
+        if catalog is None:
+            from .catalog import catalog as load_catalog
+
+            catalog = load_catalog(tuple(settings.get("plugins") or ()))
+        try:
+            model = catalog.model(data.get("model", ""))
+        except InputError as exc:
+            raise InputError(f"{path}: key 'model': {exc}") from None
+        values, bounds, means, sigmas = _parameters(path, data.get("parameters"), model)
+        of = _number(path, "of", data.get("of"))
+        record = dict(data.get("record") or {})
+        if data["schema_version"] == 1:  # v1 kept no column mapping or source units
+            record.setdefault("columns", None)
+            record.setdefault("source_units", None)
+        runs = {"of_mean": data.get("of_mean_over_runs", of), "of_sigma": data.get("of_sigma_over_runs", 0.0),
+                "p_mean": means, "p_sigma": sigmas}
+        return cls(model, values, of, bounds, record, dict(settings), list(data.get("warnings") or []), runs,
+                   os.path.abspath(path))
+
+
+def record_provenance(record) -> dict:
+    """The calibration file's 'record' block from a Record's provenance."""
+    prov = record.provenance
+    scales = record.scales()
+    return {"name": record.name, "file": prov.get("file"), "format": prov.get("format"),
+            "samples": record.n, "dt": record.dt, "columns": prov.get("columns"),
+            "source_units": prov.get("units"), "velocity": prov.get("velocity"),
+            "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
+
+
+def _read_yaml(path: str):
     try:
         with open(path) as fh:
-            data = yaml.safe_load(fh)
+            return yaml.safe_load(fh)
     except OSError as exc:
         raise InputError(f"{path}: cannot read ({exc.strerror})") from None
     except yaml.YAMLError as exc:
         raise InputError(f"{path}: not valid YAML ({str(exc).splitlines()[0]})") from None
-    if not isinstance(data, dict) or data.get("kind") != "fvd_bridge.calibration":
-        raise InputError(f"{path}: not an fvd_bridge calibration file (key 'kind')")
-    if data.get("schema_version") not in SUPPORTED_SCHEMAS:
-        raise InputError(f"{path}: key 'schema_version': {data.get('schema_version')!r} is not supported "
-                         f"(supported: {', '.join(map(str, SUPPORTED_SCHEMAS))})")
-    model = parse_model(data.get("model", ""), plugins)
-    given = data.get("parameters")
+
+
+def _number(path: str, key: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: key '{key}': {value!r} is not a number") from None
+    if not np.isfinite(x):
+        raise InputError(f"{path}: key '{key}' is not finite")
+    return x
+
+
+def _parameters(path: str, given, model):
+    """Values, bounds, run means and sigmas of the model's parameters, checked."""
     if not isinstance(given, dict):
         raise InputError(f"{path}: key 'parameters' must be a mapping")
-    values = []
+    values, bounds, means, sigmas = [], [], [], []
     for name, unit in zip(model.names, model.units):
         entry = given.get(name)
         if not isinstance(entry, dict) or "value" not in entry:
             raise InputError(f"{path}: key 'parameters.{name}' is missing (model {model.spec})")
         if entry.get("unit") != unit:
             raise InputError(f"{path}: key 'parameters.{name}.unit': '{entry.get('unit')}', expected '{unit}'")
-        try:
-            value = float(entry["value"])
-        except (TypeError, ValueError):
-            raise InputError(f"{path}: key 'parameters.{name}.value': {entry['value']!r} is not a number") from None
-        if not np.isfinite(value):
-            raise InputError(f"{path}: key 'parameters.{name}.value' is not finite")
+        value = _number(path, f"parameters.{name}.value", entry["value"])
         values.append(value)
+        b = entry.get("bounds")
+        bounds.append([float(x) if x is not None else np.nan for x in b] if isinstance(b, list) and len(b) == 2
+                      else [np.nan, np.nan])
+        means.append(float(entry.get("mean_over_runs", value)))
+        sigmas.append(float(entry.get("sigma_over_runs", 0.0)))
     extra = sorted(set(given) - set(model.names))
     if extra:
         raise InputError(f"{path}: key 'parameters.{extra[0]}' is not a parameter of model {model.spec}")
-    return Calibration(model, np.array(values), float(data.get("of", np.nan)), data)
+    return np.array(values), np.array(bounds, dtype=float).reshape(-1, 2), np.array(means), np.array(sigmas)
+
+
+def _num(x):
+    x = float(x)
+    return None if not np.isfinite(x) else x
+
+
+def _plain(x):
+    """Numpy scalars and arrays, tuples -> plain YAML types."""
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return [_plain(v) for v in x.tolist()]
+    if isinstance(x, np.generic):
+        return x.item()
+    return x

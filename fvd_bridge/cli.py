@@ -34,16 +34,29 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-
-
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"warning: {message}", file=sys.stderr)
 
 
+def verb_first(argv: list) -> tuple[str | None, list]:
+    """The verb and argv with the verb first, so that options given before it
+    (`fvd-bridge --runs 2 calibrate ...`) belong to the verb."""
+    at = next((k for k, a in enumerate(argv) if a in VERBS), None)
+    if at is None:
+        return None, argv
+    return argv[at], [argv[at]] + argv[:at] + argv[at + 1:]
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    first = next((a for a in argv if not a.startswith("-")), None)
-    parser = build_parser(first if first in VERBS else None)
+    verb, argv = verb_first(argv)
+    if verb is None:
+        first = next((a for a in argv if not a.startswith("-")), None)
+        if first is not None:
+            print(f"fvd-bridge: unknown verb '{first}' (verbs: {', '.join(VERBS)}; see fvd-bridge --help)",
+                  file=sys.stderr)
+            return 2
+    parser = build_parser(verb)
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()

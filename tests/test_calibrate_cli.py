@@ -34,7 +34,7 @@ def test_calibrate_writes_every_output(two_devices, tmp_path):
     for dev in ("dev_a", "dev_b"):
         for law in (1, 2, 9):
             p = yaml.safe_load(open(out / "params" / dev / f"law{law}.yaml"))
-            assert p["schema_version"] == 1 and p["model"] == str(law)
+            assert p["schema_version"] == 2 and p["model"] == str(law)
             assert set(p["parameters"]) == {1: {"C"}, 2: {"C", "alpha"}, 9: {"C", "alpha", "beta"}}[law]
             assert p["units"] == {"force": "kN", "displacement": "mm", "time": "s"}
             assert p["settings"]["runs"] == 2 and p["record"]["name"] == dev
@@ -71,7 +71,7 @@ def test_warns_on_paper_bounds(two_devices, tmp_path):
     res = calibrate([two_devices[0], "--laws", "2", "--runs", "1", "--bounds", "paper", "--pop", "8",
                      "--gens", "30", "--out", str(out), "--jobs", "1", "--quiet", "--no-figures"])
     assert res.returncode == 0, res.stderr
-    assert "C ended on its upper bound (try --bounds auto)" in res.stdout
+    assert "C ended on its upper bound 2 (paper bounds; try --bounds auto)" in res.stdout
     p = yaml.safe_load(open(out / "params" / "dev_a" / "law2.yaml"))
     assert any("upper bound" in w for w in p["warnings"])
     assert p["parameters"]["C"]["value"] == pytest.approx(2.0, rel=1e-3)
@@ -115,7 +115,7 @@ def test_yaml_config_sets_options(two_devices, tmp_path):
 
 def test_calibration_file_reproduces_its_of(two_devices, tmp_path):
     """What the exporters read: the parameter file alone reproduces the fitted OF."""
-    from fvd_bridge.calibration import read_calibration
+    from fvd_bridge.calibration import Calibration
     from fvd_bridge.errors import InputError
     from fvd_bridge.fit import objective
     from fvd_bridge.records import read_record
@@ -125,7 +125,7 @@ def test_calibration_file_reproduces_its_of(two_devices, tmp_path):
                      "--out", str(out), "--jobs", "1", "--quiet", "--no-figures"])
     assert res.returncode == 0, res.stderr
     path = out / "params" / "dev_a" / "law9.yaml"
-    cal = read_calibration(str(path))
+    cal = Calibration.load(str(path))
     rec = read_record(two_devices[0])
     F = cal.model.force(rec, cal.params[None, :])[0]
     assert objective(rec.F, F, rec.t) == pytest.approx(cal.of, rel=1e-9)
@@ -134,7 +134,7 @@ def test_calibration_file_reproduces_its_of(two_devices, tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(data))
     with pytest.raises(InputError, match="parameters.alpha.unit"):
-        read_calibration(str(bad))
+        Calibration.load(str(bad))
 
 
 def test_calibrate_with_plugin_effect(two_devices, tmp_path):
@@ -147,7 +147,7 @@ def test_calibrate_with_plugin_effect(two_devices, tmp_path):
                      "--pop", "8", "--gens", "30", "--out", str(out), "--jobs", "2", "--quiet"])
     assert res.returncode == 0, res.stderr
     p = yaml.safe_load(open(out / "params" / "dev_a" / "law2+cubic_spring.yaml"))
-    assert p["effects"] == ["cubic_spring"] and "cubic_spring.K3" in p["parameters"]
+    assert [e["name"] for e in p["effects"]] == ["cubic_spring"] and "cubic_spring.K3" in p["parameters"]
     # the rig device has no cubic spring: the fit leaves it near zero
     assert abs(p["parameters"]["cubic_spring.K3"]["value"]) < 1e-4
     assert (out / "figures" / "loops_dev_a_law2+cubic_spring.png").is_file()

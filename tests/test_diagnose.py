@@ -15,9 +15,8 @@ import pytest
 from conftest import PLUGIN, REPO, cli_env
 from fvd_bridge import cli
 from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
-from fvd_bridge.effects.plugins import load_plugins
 from fvd_bridge.fit import fit_model
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import catalog
 from fvd_bridge.records import Record
 from fvd_bridge.records.writers import write_csv
 from fvd_bridge.rig import Device, Noise, acceptance, simulate
@@ -95,14 +94,14 @@ def test_ladder_finds_two_planted_effects_and_stops(protocol):
 def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path):
     path = tmp_path / "my_effect.py"
     path.write_text(PLUGIN)
-    plugins = load_plugins([str(path)])
+    cat = catalog([str(path)])
     base = rig_record(protocol, "cubic")
     K3 = 0.004  # 32 kN at 20 mm
     rec = Record(base.t, base.d, base.F + K3 * base.d ** 3, base.v, base.a, name="cubic")
-    diag = diagnose(rec, "2", plugins, seed=0, settings=SETTINGS)
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS, catalog=cat)
     assert diag.candidates[0].effect == "cubic_spring" and diag.candidates[0].significant
     assert len(diag.candidates) == 8
-    fit = fit_model(parse_model("2+cubic_spring", plugins), rec, seed=1, settings=SETTINGS)
+    fit = fit_model(cat.model("2+cubic_spring"), rec, seed=1, settings=SETTINGS)
     assert fit.names[-1] == "cubic_spring.K3"
     assert fit.params[-1] == pytest.approx(K3, rel=0.05)
     assert fit.of <= 2.0 * diag.floor

@@ -11,7 +11,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from fvd_bridge import cli
-from fvd_bridge.effects import EFFECTS, get_effect
+from fvd_bridge.catalog import catalog
+from fvd_bridge.effects import EFFECTS
 from fvd_bridge.effects.plugins import load_plugins
 from fvd_bridge.errors import InputError
 from fvd_bridge.laws import LAWS, get_law
@@ -55,7 +56,7 @@ def test_seven_effects_are_documented():
 
 @pytest.mark.parametrize("name", SEVEN)
 def test_bounds_scale_with_record_and_contain_no_effect(name):
-    e = get_effect(name)
+    e = catalog().effect(name)
     small, big = {"F": 30.0, "v": 50.0, "d": 10.0}, {"F": 300.0, "v": 500.0, "d": 40.0}
     for s in (small, big):
         b = e.bounds(s)
@@ -108,7 +109,7 @@ def test_each_effect_switched_off_is_the_bare_law(law):
     F0 = base.force(rec, p[None, :])[0]
     for name in SEVEN:
         m = parse_model(f"{law}+{name}")
-        e = get_effect(name)
+        e = catalog().effect(name)
         off = np.clip(e.none, *e.bounds(rec.scales()).T)
         F = m.force(rec, np.r_[p, off][None, :])[0]
         np.testing.assert_allclose(F, F0, atol=1e-9 * np.abs(F0).max(), err_msg=f"{law}+{name}")
@@ -286,8 +287,7 @@ def test_all_effects_together_reproduce_the_rig():
 def test_plugin_effect_composes_like_a_builtin(tmp_path):
     path = tmp_path / "my_effects.py"
     path.write_text(PLUGIN)
-    plugins = load_plugins([str(path)])
-    m = parse_model("2+cubic_spring+friction", plugins)
+    m = catalog([str(path)]).model("2+cubic_spring+friction")
     assert m.names[-2:] == ["cubic_spring.K3", "friction.Ff"]
     rec = sine_record()
     F = m.force(rec, np.array([[C, ALPHA, 1e-3, 5.0]]))[0]

@@ -17,7 +17,7 @@ from scipy.integrate import solve_ivp
 
 from fvd_bridge.laws import LAWS
 from fvd_bridge.laws.differential import bouc_wen_force
-from fvd_bridge.laws.golden import DT as GOLDEN_DT, GOLDEN_DIR, REFERENCE, read_golden
+from fvd_bridge.golden import DT as GOLDEN_DT, GOLDEN_DIR, REFERENCE, read_golden
 
 DT = 0.002  # [s]
 AMPLITUDE, V_PEAK, CYCLES = 40.0, 500.0, 10  # [mm], [mm/s]
@@ -183,9 +183,10 @@ def test_population_is_rows_and_finite(record, number, mode):
 
 @pytest.mark.parametrize("number", sorted(LAWS))
 def test_golden_output(number):
-    """The kernels reproduce tests/golden/lawN.csv (regenerate: python -m fvd_bridge.laws.golden)."""
+    """The kernels reproduce tests/golden/lawN.csv (regenerate: python -m fvd_bridge.golden)."""
     law = LAWS[number]
-    pars, t, d, v, F_golden = read_golden(GOLDEN_DIR / f"law{number}.csv")
+    pars, cols = read_golden(GOLDEN_DIR / f"law{number}.csv")
+    d, v, F_golden = cols["d"], cols["v"], cols["F"]
     assert tuple(pars.values()) == REFERENCE[number] and list(pars) == law.names
     F = law.force(d, v, GOLDEN_DT, np.array([REFERENCE[number]]))[0]
     assert np.max(np.abs(F - F_golden)) <= 1e-9 * np.max(np.abs(F_golden))

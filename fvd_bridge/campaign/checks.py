@@ -14,30 +14,41 @@ RUN_SPREAD = 0.05
 NO_BETTER = 0.98
 
 
-def fit_warnings(spec: str, runs: list, law1_of: float | None = None) -> list[dict]:
+def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
     """Warnings for one (device, model) from its runs (FitResults)."""
     best = min(runs, key=lambda r: r.of)
     out = []
     for name, side in best.on_bound():
-        hint = " (try --bounds auto)" if best.bounds_mode == "paper" else " (widen it with --bound)"
-        out.append({"code": "on_bound", "parameter": name,
-                    "message": f"{name} ended on its {side} bound{hint}"})
-    if spec.split("+")[0] == "8":
-        products = np.array([r.params[2] * r.params[3] for r in runs])
-        mus = np.array([r.params[2] for r in runs])
-        out.append({"code": "non_identifiable", "parameter": "mu,N",
-                    "message": f"only mu*N is identifiable (mu*N = {products.mean():.4g} kN, spread "
-                               f"{_spread(products):.1%} over runs; mu alone spreads {_spread(mus):.1%}): "
-                               f"report mu*N, not mu and N"})
+        out.append({"code": "on_bound", "parameter": name, "message": _bound_message(model, best, name, side)})
+    for d in (d for d in model.law.derived if d.factors):  # law 8: only mu*N is identifiable
+        values = np.array([model.derived(r.params)[d.name][0] for r in runs])
+        first = d.factors[0]
+        alone = np.array([r.params[model.names.index(first)] for r in runs])
+        out.append({"code": "non_identifiable", "parameter": ",".join(d.factors),
+                    "message": f"only {d.name} is identifiable ({d.name} = {values.mean():.4g} {d.unit}, spread "
+                               f"{_spread(values):.1%} over runs; {first} alone spreads {_spread(alone):.1%}): "
+                               f"report {d.name}, not {' and '.join(d.factors)}"})
     ofs = np.array([r.of for r in runs])
     if len(runs) > 1 and ofs.std() > RUN_SPREAD * ofs.mean():
         out.append({"code": "runs_disagree", "parameter": None,
                     "message": f"runs disagree: OF {ofs.mean():.4g} +- {ofs.std():.2g} over {len(runs)} runs "
                                f"(the optimizer does not find one optimum; more generations or --optimizer de)"})
-    if law1_of is not None and spec != "1" and ofs.mean() > NO_BETTER * law1_of:
+    if law1_of is not None and model.spec != "1" and ofs.mean() > NO_BETTER * law1_of:
         out.append({"code": "no_better_than_law1", "parameter": None,
                     "message": f"mean OF {ofs.mean():.4g} is no better than law 1's {law1_of:.4g}"})
     return out
+
+
+def _bound_message(model, best, name: str, side: str) -> str:
+    """'alpha ended on its upper bound 1 (bounds auto); try --bound 9:alpha=0,2'."""
+    lo, hi = best.bounds[best.names.index(name)]
+    if best.bounds_mode == "paper":
+        return f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (paper bounds; try --bounds auto)"
+    wider = (lo - (hi - lo), hi) if side == "lower" else (lo, hi + (hi - lo))
+    if side == "lower" and lo > 0.0 and wider[0] < 0.0:
+        wider = (lo / 10.0, hi)
+    return (f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (bounds {best.bounds_mode} "
+            f"[{lo:.4g}, {hi:.4g}]); widen it, e.g. --bound {model.spec}:{name}={wider[0]:.4g},{wider[1]:.4g}")
 
 
 def _spread(x: np.ndarray) -> float:

@@ -1,7 +1,8 @@
 """Campaign outputs (schema_version 1): calibrated parameter files, tables, figures.
 
 DIR/params/<device>/law<SPEC>.yaml  one calibrated parameter set per (device, model):
-                                    what the exporters read (best run's parameters)
+                                    what the exporters read (best run's parameters;
+                                    fvd_bridge.calibration owns its schema)
 DIR/table_A7.csv    mean and sigma over runs of OF and every parameter (Table A.7)
 DIR/robustness.csv  Delta_mn, Delta_n per parameter and beta per model (eqs. 19-23)
 DIR/pareto.csv      mean OF vs beta per model, non-dominated flag (Fig. 14)
@@ -17,10 +18,12 @@ import os
 import numpy as np
 
 from .. import __version__
-from ..io.staging import staged_dir, write_csv_rows, write_json, write_yaml
+from ..calibration import Calibration
+from ..io.staging import staged_dir, write_csv_rows, write_json
 from . import stats
 from .checks import fit_warnings
 
+#: schema of table_A7.csv, robustness.csv, pareto.csv and summary.json
 SCHEMA_VERSION = 1
 
 
@@ -47,7 +50,7 @@ def summarize(records, results: dict, cs) -> dict:
             "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
             "p_mean": p_mean, "p_sigma": p_sigma, "delta": delta, "delta_n": delta_n, "beta": beta,
             "of_overall": float(OF.mean()),
-            "warnings": {dev: fit_warnings(spec, runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
+            "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
             "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, per_dev)},
         }
     specs = list(cs.specs)
@@ -62,30 +65,14 @@ def _num(x):
     return None if math.isnan(x) or math.isinf(x) else x
 
 
-def _param_file(rec, dev_index: int, spec, summary_model, cs) -> dict:
-    law = cs.model(spec).law
+def calibration(rec, dev_index: int, spec, summary_model, cs) -> Calibration:
+    """The calibrated parameter set of one (device, model): its best run."""
     best = summary_model["best"][rec.name]
-    return {
-        "schema_version": SCHEMA_VERSION,
-        "kind": "fvd_bridge.calibration",
-        "fvd_bridge_version": __version__,
-        "model": spec,
-        "law": {"number": law.number, "name": law.name, "equation": law.equation, "source": law.source},
-        "effects": spec.split("+")[1:],
-        "units": {"force": "kN", "displacement": "mm", "time": "s"},
-        "parameters": {
-            n: {"value": float(v), "unit": u, "bounds": [float(lo), float(hi)],
-                "mean_over_runs": float(summary_model["p_mean"][dev_index][k]),
-                "sigma_over_runs": float(summary_model["p_sigma"][dev_index][k])}
-            for k, (n, u, v, (lo, hi)) in enumerate(zip(best.names, best.units, best.params, best.bounds))},
-        "of": float(best.of),
-        "of_mean_over_runs": float(summary_model["of_mean"][dev_index]),
-        "of_sigma_over_runs": float(summary_model["of_sigma"][dev_index]),
-        "record": {"name": rec.name, "file": rec.provenance.get("file"),
-                   "samples": rec.n, "dt": rec.dt, "velocity": rec.provenance.get("velocity")},
-        "settings": {**cs.as_dict(), "best_run_seed": list(np.atleast_1d(best.seed).tolist())},
-        "warnings": [w["message"] for w in summary_model["warnings"][rec.name]],
-    }
+    runs = {"of_mean": summary_model["of_mean"][dev_index], "of_sigma": summary_model["of_sigma"][dev_index],
+            "p_mean": summary_model["p_mean"][dev_index], "p_sigma": summary_model["p_sigma"][dev_index]}
+    settings = {**cs.as_dict(), "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
+    return Calibration.from_fit(cs.model(spec), best, rec, settings,
+                                [w["message"] for w in summary_model["warnings"][rec.name]], runs)
 
 
 def write_outputs(out: str, records, results: dict, cs, figures: bool = True) -> dict:
@@ -94,8 +81,8 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True) ->
     with staged_dir(out) as stage:
         for k, rec in enumerate(records):
             for spec in cs.specs:
-                write_yaml(os.path.join(stage, "params", rec.name, spec_file(spec)),
-                           _param_file(rec, k, spec, summary["models"][spec], cs))
+                calibration(rec, k, spec, summary["models"][spec], cs).save(
+                    os.path.join(stage, "params", rec.name, spec_file(spec)))
         _tables(stage, summary, cs)
         write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
         if figures:
@@ -111,9 +98,8 @@ def _tables(stage, summary, cs):
             rows.append([spec, dev, "OF", "-", m["of_mean"][k], m["of_sigma"][k]])
             for j, (n, u) in enumerate(zip(m["names"], m["units"])):
                 rows.append([spec, dev, n, u, m["p_mean"][k][j], m["p_sigma"][k][j]])
-            if spec.split("+")[0] == "8":  # the identifiable product
-                prod = m["p_mean"][k][2] * m["p_mean"][k][3]
-                rows.append([spec, dev, "mu*N", "kN", prod, float("nan")])
+            for name, (value, unit) in cs.model(spec).derived(m["p_mean"][k]).items():
+                rows.append([spec, dev, name, unit, value, float("nan")])
         for j, n in enumerate(m["names"]):
             for k, dev in enumerate(devices):
                 rob.append([spec, n, dev, _num(m["delta"][k][j]), _num(m["delta_n"][j]), _num(m["beta"])])

@@ -1,29 +1,42 @@
-"""Terminal report of a campaign: Table A.7-like summary, Pareto set, warnings."""
+"""Terminal report of a campaign: Table A.7-like summary, Pareto set, warnings.
+
+Columns are as wide as their longest entry: no name is cut, no two columns touch.
+"""
 
 from __future__ import annotations
+
+GAP = 2  # spaces between columns
+
+
+def _width(items, minimum: int = 0) -> int:
+    return max([minimum] + [len(str(x)) for x in items])
 
 
 def format_report(summary: dict) -> str:
     devices = summary["devices"]
+    models = summary["models"]
+    labels = [f"law {spec}" for spec in models]
+    quantities = ["OF"] + [f"{n} [{u}]" for m in models.values() for n, u in zip(m["names"], m["units"])]
+    w_model, w_q = _width(labels, 5) + GAP, _width(quantities, 8) + GAP
+    w_cell = max(_width(devices), 23) + GAP  # '   1.234e+05 ( 1.2e+03)'
     lines = ["", "Mean (sigma) over runs of OF and parameters (cf. paper Table A.7)", ""]
-    head = f"{'model':<14}{'quantity':<18}" + "".join(f"{d[:16]:>24}" for d in devices)
-    lines.append(head)
-    lines.append("-" * len(head))
-    for spec, m in summary["models"].items():
+    head = f"{'model':<{w_model}}{'quantity':<{w_q}}" + "".join(f"{d:>{w_cell}}" for d in devices)
+    lines += [head, "-" * len(head)]
+    for spec, m in models.items():
         rows = [("OF", m["of_mean"], m["of_sigma"])]
         rows += [(f"{n} [{u}]", m["p_mean"][:, j], m["p_sigma"][:, j])
                  for j, (n, u) in enumerate(zip(m["names"], m["units"]))]
         for k, (q, mean, sigma) in enumerate(rows):
             label = f"law {spec}" if k == 0 else ""
-            cells = "".join(f"{mean[i]:>13.4g} ({sigma[i]:7.2g})" for i in range(len(devices)))
-            lines.append(f"{label:<14}{q[:17]:<18}{cells}")
-    lines += ["", f"{'model':<14}{'mean OF':>10}{'beta':>10}  Pareto"]
-    for spec, m in summary["models"].items():
-        lines.append(f"law {spec:<10}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
+            cells = "".join(f"{f'{mean[i]:.4g} ({sigma[i]:.2g})':>{w_cell}}" for i in range(len(devices)))
+            lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
+    lines += ["", f"{'model':<{w_model}}{'mean OF':>10}{'beta':>10}  Pareto"]
+    for spec, m in models.items():
+        lines.append(f"{'law ' + spec:<{w_model}}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
                      f"{'non-dominated' if m['non_dominated'] else ''}")
-    front = [s for s, m in summary["models"].items() if m["non_dominated"]]
+    front = [s for s, m in models.items() if m["non_dominated"]]
     lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
-    warn = [(spec, dev, w["message"]) for spec, m in summary["models"].items()
+    warn = [(spec, dev, w["message"]) for spec, m in models.items()
             for dev, ws in m["warnings"].items() for w in ws]
     if warn:
         lines += ["", "Warnings:"]

@@ -5,12 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 
-def run_stats(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Mean and standard deviation over runs (axis 0), as in Table A.7."""
-    values = np.asarray(values, dtype=float)
-    return values.mean(axis=0), values.std(axis=0)
-
-
 def deltas(device_means: np.ndarray) -> np.ndarray:
     """Delta_mn = (alpha_mn - mean_m alpha_mn) / mean_m alpha_mn  (eq. 19-21).
 

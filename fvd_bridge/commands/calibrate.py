@@ -10,12 +10,15 @@ from ..campaign.runner import CampaignSettings, run_campaign
 from ..errors import InputError
 from ..fit import OPTIMIZERS, settings_for
 from ..laws import BOUND_MODES
-from ..model import parse_model
 from .common import add_record_options, read_records
 
 
 def add_parser(sub):
-    p = sub.add_parser("calibrate", help="fit laws to test records (one record per device)")
+    p = sub.add_parser("calibrate", help="fit laws to test records (one record per device)",
+                       description="Fit laws or models (LAW+EFFECT...) to every record, one record per device, "
+                                   "over several seeded runs; write the calibrated parameter files (the "
+                                   "exporters' input), Table A.7, the robustness index, the Pareto front and "
+                                   "figures into --out.")
     p.add_argument("records", nargs="+", metavar="RECORD", help="CSV or .mat test records, one per device")
     add_campaign_options(p)
     add_record_options(p)
@@ -48,7 +51,7 @@ def add_campaign_options(p):
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def parse_specs(text: str, plugins) -> tuple:
+def parse_specs(text: str, catalog) -> tuple:
     """'1-9' / '2,6,9' / '2+friction,9' -> model specs (validated)."""
     from ..laws import parse_law_list
 
@@ -56,15 +59,15 @@ def parse_specs(text: str, plugins) -> tuple:
     for part in text.split(","):
         part = part.strip()
         if "+" in part:
-            specs.append(parse_model(part, plugins).spec)
+            specs.append(catalog.model(part).spec)
         else:
             specs.extend(law.key for law in parse_law_list(part))
     return tuple(dict.fromkeys(specs))
 
 
 def parse_bound(text: str) -> tuple:
-    """'[SPEC:]NAME=LO,HI' -> (spec or None, name, lo, hi)."""
-    head, sep, rng = text.partition("=")
+    """'[SPEC:]NAME=LO,HI' -> (spec or None, name, lo, hi), checked before any work."""
+    head, sep, rng = str(text).partition("=")
     spec, _, name = head.rpartition(":")
     try:
         lo, hi = (float(x) for x in rng.split(","))
@@ -72,6 +75,8 @@ def parse_bound(text: str) -> tuple:
         raise InputError(f"--bound '{text}': expected [LAW:]NAME=LO,HI, e.g. 9:alpha=0,50") from None
     if not sep or not name:
         raise InputError(f"--bound '{text}': expected [LAW:]NAME=LO,HI, e.g. 9:alpha=0,50")
+    if not lo < hi:
+        raise InputError(f"--bound '{text}': the lower bound must be below the upper")
     return (spec or None, name, lo, hi)
 
 
@@ -100,25 +105,24 @@ def apply_config(args) -> None:
 
 
 def campaign_settings(args) -> CampaignSettings:
-    plugins = None
-    if args.plugin:
-        from ..effects.plugins import load_plugins
+    from ..catalog import catalog
 
-        plugins = load_plugins(args.plugin)
+    cat = catalog(args.plugin)
     for name in ("runs", "pop", "gens", "stall"):
         value = getattr(args, name)
         if value is not None and value < 1:
             raise InputError(f"--{name} {value}: must be at least 1")
     settings_for(args.optimizer, args.pop, args.gens, args.stall)
-    specs = parse_specs(str(args.laws), plugins)
+    specs = parse_specs(str(args.laws), cat)
     overrides = tuple(parse_bound(b) for b in args.bound)
     for spec, name, _, _ in overrides:
         targets = [spec] if spec else list(specs)
+        given = f"--bound '{spec + ':' if spec else ''}{name}=...'"
         if spec and spec not in specs:
-            raise InputError(f"--bound {spec}:{name}: law {spec} is not among --laws {args.laws}")
-        if not any(name in parse_model(t, plugins).names for t in targets):
-            raise InputError(f"--bound {name}: {'model ' + spec if spec else 'no model'} has no parameter "
-                             f"'{name}' (has: {', '.join(parse_model(targets[0], plugins).names)})")
+            raise InputError(f"{given}: law {spec} is not among --laws {args.laws}")
+        if not any(name in cat.model(t).names for t in targets):
+            raise InputError(f"{given}: {'model ' + spec if spec else 'no model'} has no parameter "
+                             f"'{name}' (has: {', '.join(cat.model(targets[0]).names)})")
     return CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
                             optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
                             stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),

@@ -44,19 +44,15 @@ def _safe(name: str) -> str:
 
 
 def run(args) -> int:
+    from ..catalog import catalog
     from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
-    from ..model import parse_model
 
     for name in ("pop", "gens", "max_rungs"):
         value = getattr(args, name)
         if value is not None and value < 1:
             raise InputError(f"--{name.replace('_', '-')} {value}: must be at least 1")
-    plugins = None
-    if args.plugin:
-        from ..effects.plugins import load_plugins
-
-        plugins = load_plugins(args.plugin)
-    spec = parse_model(args.law, plugins).spec  # refuse a bad spec before reading anything
+    cat = catalog(args.plugin)
+    model = cat.model(args.law)  # refuse a bad spec before reading anything
     settings = diagnose_settings(args.pop, args.gens)
     record = read_records([args.record], args)[0]
     for w in record.warnings:
@@ -68,10 +64,10 @@ def run(args) -> int:
 
     lad = None
     if args.ladder:
-        lad = climb(record, spec, plugins, args.seed, settings, args.max_rungs, progress)
+        lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat)
         diag = lad.final
     else:
-        diag = diagnose(record, spec, plugins, args.seed, settings, progress=progress)
+        diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat)
     report = diag.as_dict()
     report["settings"] = {"seed": args.seed, "optimizer": "de", **vars(settings)}
     if lad is not None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from ..effects import all_effects
 from ..effects.compose import ordered
 
 EXAMPLE = {"F": 300.0, "v": 500.0, "d": 40.0}
@@ -21,12 +20,9 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    plugins = None
-    if args.plugin:
-        from ..effects.plugins import load_plugins
+    from ..catalog import catalog
 
-        plugins = load_plugins(args.plugin)
-    effects = ordered(all_effects(plugins).values())
+    effects = ordered(catalog(args.plugin).effects.values())
     print("effects in composition order; use as LAW+EFFECT, e.g. 2+friction+series_stiffness")
     print("bounds shown for a record with peak F 300 kN, v 500 mm/s, d 40 mm; "
           "'off' = the value that switches the effect off\n")
@@ -35,9 +31,9 @@ def run(args) -> int:
         print(f"{e.name} ({e.stage}){src}")
         print(f"  {e.summary}")
         print(f"  {e.equation}")
-        for p, none, (lo, hi) in zip(e.parameters, e.none, e.bounds(EXAMPLE)):
+        for name, p, none, (lo, hi) in zip(e.names, e.parameters, e.none, e.bounds(EXAMPLE)):
             off = f"{min(max(none, lo), hi):.4g}" + (" (rigid)" if none == float("inf") else "")
-            print(f"  {e.name}.{p.name:<6} [{p.unit}]  bounds [{lo:.4g}, {hi:.4g}]{' log' if p.log else ''}"
+            print(f"  {name:<24} [{p.unit}]  bounds [{lo:.4g}, {hi:.4g}]{' log' if p.log else ''}"
                   f"  off {off}  {p.description}")
         print(f"  looks like: {e.symptom}")
         print()

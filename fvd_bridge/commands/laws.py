@@ -6,7 +6,9 @@ from ..laws import LAWS
 
 
 def add_parser(sub):
-    p = sub.add_parser("laws", help="list the nine FVD laws: equation, parameters, units, paper bounds")
+    p = sub.add_parser("laws", help="list the nine FVD laws: equation, parameters, units, paper bounds",
+                       description="The nine FVD laws of the paper: equation, source, parameters with units, "
+                                   "the paper's Table 4 bounds and the 'auto' bounds derived from a record.")
     p.set_defaults(func=run)
 
 

@@ -8,10 +8,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..effects import all_effects
 from ..fit import DEFAULT_OPTIMIZER, fit_model, noise_floor, settings_for
 from ..fit.de import DESettings
-from ..model import parse_model
+from ..catalog import catalog as default_catalog
 from ..records.cycles import force_noise
 from . import where as where_mod
 from .rank import Candidate, Judge, rank
@@ -36,7 +35,7 @@ class Diagnosis:
     noise floor and the ranked candidate effects."""
 
     record: str
-    spec: str
+    model: object  # fvd_bridge.model.Model
     fit: object
     F_model: np.ndarray
     noise_std: float
@@ -44,8 +43,11 @@ class Diagnosis:
     where: dict
     candidates: list = field(default_factory=list)
     wall_s: float = 0.0
-    plugins: dict | None = None
     parent: tuple | None = None  # (spec, OF) of the model without the last effect
+
+    @property
+    def spec(self) -> str:
+        return self.model.spec
 
     @property
     def of(self) -> float:
@@ -114,10 +116,11 @@ class Diagnosis:
         return b.explanation
 
 
-def diagnose(record, spec: str, plugins: dict | None = None, seed: int = 0, settings=None,
-             base_fit=None, candidates: bool = True, progress=None, parent=True) -> Diagnosis:
-    """Fit ``spec`` to ``record`` (or take ``base_fit``), analyse the residual,
-    and refit with every effect not in the model (when ``candidates``).
+def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,
+             progress=None, parent=True, catalog=None) -> Diagnosis:
+    """Fit ``model`` (a Model, or a spec resolved by ``catalog``, default the
+    built-in one) to ``record`` (or take ``base_fit``), analyse the residual,
+    and refit with every effect of the catalog not in the model (when ``candidates``).
 
     ``parent``: for a model with effects, how far the error fell from the
     model without its last effect: True fits that model too, a (spec, OF)
@@ -125,7 +128,9 @@ def diagnose(record, spec: str, plugins: dict | None = None, seed: int = 0, sett
     one line per fit."""
     t0 = time.perf_counter()
     settings = settings or diagnose_settings()
-    model = parse_model(spec, plugins)
+    catalog = catalog or default_catalog()
+    if isinstance(model, str):
+        model = catalog.model(model)
     if base_fit is None:
         base_fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings)
         if progress:
@@ -133,21 +138,20 @@ def diagnose(record, spec: str, plugins: dict | None = None, seed: int = 0, sett
     F_model = model.force(record, base_fit.params[None, :])[0]
     sigma = force_noise(record.F)
     judge = Judge(noise_floor(sigma, record.F), record.n)
-    diag = Diagnosis(record.name, model.spec, base_fit, F_model, float(sigma), judge,
-                     where_mod.analyse(record, F_model), plugins=plugins)
+    diag = Diagnosis(record.name, model, base_fit, F_model, float(sigma), judge,
+                     where_mod.analyse(record, F_model))
     if candidates:
         def report(c):
             if progress:
                 progress(f"  + {c.effect:<20s} OF {c.of:.5g} ({c.improvement:+.1%}, {c.wall_s:.1f} s)")
 
-        diag.candidates = rank(model, base_fit, record, all_effects(plugins), judge, seed, settings, report)
+        diag.candidates = rank(model, base_fit, record, catalog.effects, judge, seed, settings, report)
     if parent is True and model.effects:
-        parent_spec = model.spec.rsplit("+", 1)[0]
-        pfit = fit_model(parse_model(parent_spec, plugins), record, bounds="auto", optimizer="de", seed=seed,
-                         settings=settings)
-        parent = (parent_spec, float(pfit.of))
+        parent_model = model.without_effect(model.effects[-1].name)
+        pfit = fit_model(parent_model, record, bounds="auto", optimizer="de", seed=seed, settings=settings)
+        parent = (parent_model.spec, float(pfit.of))
         if progress:
-            progress(f"fitted {parent_spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
+            progress(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
     diag.parent = parent if isinstance(parent, tuple) else None
     diag.wall_s = time.perf_counter() - t0
     return diag

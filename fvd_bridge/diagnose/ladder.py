@@ -25,6 +25,7 @@ class Rung:
     params: dict
     units: dict
     explanation: str = ""
+    added: str = ""  # the effect this rung added (empty for the first)
 
     def as_dict(self) -> dict:
         return {"model": self.spec, "of": self.of, "improvement": self.improvement,
@@ -47,12 +48,13 @@ class Ladder:
                 "noise_floor_of": self.final.floor, "wall_s": self.wall_s}
 
 
-def climb(record, spec: str, plugins: dict | None = None, seed: int = 0, settings=None,
-          max_rungs: int | None = None, progress=None) -> Ladder:
-    """Run the ladder from ``spec``; returns every rung and each rung's diagnosis."""
+def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = None, progress=None,
+          catalog=None) -> Ladder:
+    """Run the ladder from ``model`` (a Model, or a spec resolved by ``catalog``);
+    returns every rung and each rung's diagnosis."""
     t0 = time.perf_counter()
     lad = Ladder()
-    diag = diagnose(record, spec, plugins, seed, settings, progress=progress, parent=None)
+    diag = diagnose(record, model, seed, settings, progress=progress, parent=None, catalog=catalog)
     lad.diagnoses.append(diag)
     lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), dict(zip(diag.fit.names, diag.fit.units))))
     while True:
@@ -74,10 +76,10 @@ def climb(record, spec: str, plugins: dict | None = None, seed: int = 0, setting
         # its candidates need no refit
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
         at_floor = diag.judge.at_floor(best.of)
-        diag = diagnose(record, best.spec, plugins, seed, settings, base_fit=best.fit,
-                        candidates=not (at_floor or last), progress=progress, parent=(prev.spec, prev.of))
+        diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not (at_floor or last),
+                        progress=progress, parent=(prev.spec, prev.of), catalog=catalog)
         lad.diagnoses.append(diag)
         lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
-                              dict(zip(diag.fit.names, diag.fit.units)), best.explanation))
+                              dict(zip(diag.fit.names, diag.fit.units)), best.explanation, best.effect))
     lad.wall_s = time.perf_counter() - t0
     return lad

@@ -5,7 +5,7 @@ An effect counts ("helps beyond noise") only if both hold:
 1. the OF falls by more than ``MARGIN`` noise-floor uncertainties:
    OF_base - OF_with > MARGIN u,  u = floor max(1.7 / sqrt(N), 0.02)
    (1.7 / sqrt(N): the relative scatter of the floor estimated from the
-   force noise (median of N second differences) combined with the scatter
+   force noise (median of N fourth differences) combined with the scatter
    of the exact model's OF under the same noise);
 2. the Bayesian information criterion agrees (Laplace errors, whose
    maximum likelihood is set by the mean absolute residual, so the OF):
@@ -32,7 +32,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..fit import fit_model, objective
-from ..model import parse_model
 from .where import effective_samples
 
 #: an effect must lower the OF by more than this many noise-floor uncertainties
@@ -55,8 +54,7 @@ def nested_start(model, base_model, base_params, scales) -> np.ndarray:
             out.extend(known[n] for n in model.law.names)
             continue
         b = e.bounds(scales)
-        for p, none, (lo, hi) in zip(e.parameters, e.none, b):
-            name = f"{e.name}.{p.name}"
+        for name, none, (lo, hi) in zip(e.names, e.none, b):
             out.append(known[name] if name in known else float(np.clip(none, lo, hi)))
     return np.asarray(out, dtype=float)
 
@@ -81,7 +79,7 @@ class Candidate:
     """One effect added to the model and refitted."""
 
     effect: str
-    spec: str
+    model: object  # the base model with the effect (fvd_bridge.model.Model)
     fit: object
     of: float
     improvement: float  # (OF_base - OF) / OF_base
@@ -91,6 +89,10 @@ class Candidate:
     reason: str
     explanation: str
     wall_s: float = 0.0
+
+    @property
+    def spec(self) -> str:
+        return self.model.spec
 
     def as_dict(self) -> dict:
         return {"effect": self.effect, "spec": self.spec, "of": self.of, "improvement": self.improvement,
@@ -131,17 +133,14 @@ class Judge:
 
 def rank(base_model, base_fit, record, effects: dict, judge: Judge, seed: int, settings,
          progress=None) -> list[Candidate]:
-    """Refit ``base_model`` + each effect of ``effects`` not already in it;
-    candidates best (lowest OF) first."""
-    present = {e.name for e in base_model.effects}
-    plugins = {k: e for k, e in effects.items() if e.source != "built-in"}
+    """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) not
+    already in it; candidates best (lowest OF) first."""
     scales = record.scales()
     out = []
     for name, e in effects.items():
-        if name in present:
+        if base_model.has(name):
             continue
-        spec = f"{base_model.spec}+{name}"
-        model = parse_model(spec, plugins)
+        model = base_model.with_effect(e)
         start = nested_start(model, base_model, base_fit.params, scales)
         t0 = time.perf_counter()
         fit = refit(model, record, seed, settings, start)
@@ -149,7 +148,7 @@ def rank(base_model, base_fit, record, effects: dict, judge: Judge, seed: int, s
         F = model.force(record, fit.params[None, :])[0]
         ok, reason, dbic, n_eff = judge.verdict(base_fit.of, fit.of, len(e.parameters), record.F - F)
         imp = (base_fit.of - fit.of) / base_fit.of if base_fit.of > 0 else 0.0
-        cand = Candidate(name, model.spec, fit, float(fit.of), float(imp), float(dbic), float(n_eff), ok,
+        cand = Candidate(name, model, fit, float(fit.of), float(imp), float(dbic), float(n_eff), ok,
                          reason, e.explanation(), wall)
         out.append(cand)
         if progress:

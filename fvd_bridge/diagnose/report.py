@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..fit import mean_abs_noise
 from .where import summary_lines
 
 #: how many helpful candidates get their one-line physical explanation
@@ -28,7 +29,7 @@ def format_diagnosis(diag, record_label: str | None = None) -> str:
     for name, side in diag.on_bound():
         rigid = name.endswith("series_stiffness.Ks") and side == "upper"
         lines.append(f"  note: {name} ended on its {side} bound" + (" (a rigid connection)" if rigid else ""))
-    floor_kN = diag.noise_std * (2.0 / 3.141592653589793) ** 0.5
+    floor_kN = mean_abs_noise(diag.noise_std)
     lines.append("")
     lines.append("where the model fails (residual r = measured - model):")
     lines += [f"  {s}" for s in summary_lines(diag.where, floor_kN)]
@@ -60,5 +61,5 @@ def format_ladder(lad) -> str:
         lines.append(f"  {r.spec:<50}{r.of:>9.4g}{gain:>8}  {params}")
     lines.append(f"noise floor OF {lad.final.floor:.4g}; stopped: {lad.stop}")
     for r in lad.rungs[1:]:
-        lines.append(f"  {r.spec.rsplit('+', 1)[1]}: {r.explanation}")
+        lines.append(f"  {r.added}: {r.explanation}")
     return "\n".join(lines)

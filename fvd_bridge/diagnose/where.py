@@ -1,5 +1,5 @@
 """Where a fitted model fails: the residual r = F_measured - F_model, cut by
-the quantities that fingerprint the physical effects (PHYSICS.md):
+the quantities that fingerprint the physical effects (README, "Physical effects"):
 
 - near the reversals vs at peak velocity (series stiffness, gap, inertia),
 - early vs late cycles of each velocity level (heating),

@@ -1,4 +1,4 @@
-"""The seven built-in physical effects (see /PHYSICS.md of the project notes).
+"""The seven built-in physical effects (their fingerprints: README, "Physical effects").
 
 Each effect's equation lives in the docstring of the function that computes
 it.  Bounds scale with the record: F = peak force [kN], v = peak velocity

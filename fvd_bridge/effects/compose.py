@@ -30,17 +30,6 @@ def ordered(effects) -> list:
     return sorted(effects, key=lambda e: (STAGE_RANK[e.stage], e.order, e.name))
 
 
-def split_params(model, P: np.ndarray) -> tuple[np.ndarray, dict]:
-    """(pop, n_par) -> law parameters (pop, n_law) and {effect name: (pop, n_e)}."""
-    j = len(model.law.parameters)
-    out = {}
-    for e in model.effects:
-        k = len(e.parameters)
-        out[e.name] = P[:, j:j + k]
-        j += k
-    return P[:, :len(model.law.parameters)], out
-
-
 def _checked(e, F, pop: int, n: int) -> np.ndarray:
     try:
         out = np.broadcast_to(np.asarray(F, dtype=float), (pop, n))
@@ -84,27 +73,27 @@ def _series(model, e, x, xv, xa, dt, PL, PE, pop, substeps):
     return F, U, FO, inside
 
 
-def _rigid_rows(model, record, P):
+def _series_effect(model):
+    return next((e for e in model.effects if e.stage == "series"), None)
+
+
+def _rigid_rows(model, P):
     """Rows whose series stiffness is at least KS_RIGID (the upper end of its
     range): a rigid connection, computed without the spring (exactly the
     model without series_stiffness, so the models are nested)."""
     from .catalog import KS_RIGID
 
-    j = len(model.law.parameters)
-    for e in model.effects:
-        if e.stage == "series":
-            return P[:, j] >= KS_RIGID * (1.0 - 1e-12)
-        j += len(e.parameters)
-    return None
+    e = _series_effect(model)
+    if e is None:
+        return None
+    _, PE = model.split(P)
+    return PE[e.name][:, 0] >= KS_RIGID * (1.0 - 1e-12)
 
 
 def _split_rigid(model, record, P, rigid, substeps, parts):
-    from ..model import Model
-
-    keep = [e for e in model.effects if e.stage != "series"]
-    cols = [k for k, name in enumerate(model.names) if not any(
-        name == f"{e.name}.{p.name}" for e in model.effects if e.stage == "series" for p in e.parameters)]
-    rigid_model = Model(model.law, tuple(keep))
+    series = _series_effect(model).name
+    rigid_model = model.without_effect(series)
+    cols = model.columns_without(series)
     pop, n = P.shape[0], record.n
     F = np.empty((pop, n))
     out_parts: dict = {}
@@ -158,10 +147,10 @@ class _single_thread:
 
 def _composed(model, record, P, substeps, parts):
     pop, n = P.shape[0], record.n
-    rigid = _rigid_rows(model, record, P)
+    rigid = _rigid_rows(model, P)
     if rigid is not None and rigid.any():
         return _split_rigid(model, record, P, rigid, substeps, parts)
-    PL, PE = split_params(model, P)
+    PL, PE = model.split(P)
     dt = record.dt
     x, xv, xa = record.d[None, :], record.v[None, :], record.a[None, :]
     parts_out: dict = {}

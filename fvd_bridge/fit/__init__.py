@@ -1,8 +1,8 @@
 """Fitting: the paper's objective (eq. 18), its GA, the default optimizer, results."""
 
 from .api import DEFAULT_OPTIMIZER, OPTIMIZERS, fit_model, settings_for
-from .objective import noise_floor, objective
+from .objective import mean_abs_noise, noise_floor, objective
 from .result import FitResult
 
-__all__ = ["DEFAULT_OPTIMIZER", "OPTIMIZERS", "FitResult", "fit_model", "noise_floor", "objective",
+__all__ = ["DEFAULT_OPTIMIZER", "OPTIMIZERS", "FitResult", "fit_model", "mean_abs_noise", "noise_floor", "objective",
            "settings_for"]

@@ -17,9 +17,12 @@ def objective(F_measured: np.ndarray, F_model: np.ndarray, t: np.ndarray) -> np.
     return integral / (np.std(F_measured) * (t[-1] - t[0]))
 
 
-def noise_floor(noise_std: float, F_measured: np.ndarray) -> float:
-    """Expected OF of the exact model under white force noise of std ``noise_std`` [kN].
+def mean_abs_noise(noise_std: float) -> float:
+    """E|e| [kN] of Gaussian force noise e of std ``noise_std`` [kN]: s sqrt(2/pi)."""
+    return float(noise_std * np.sqrt(2.0 / np.pi))
 
-    E|e| = s sqrt(2/pi) for Gaussian e, so OF_floor = s sqrt(2/pi) / std(F).
-    """
-    return float(noise_std * np.sqrt(2.0 / np.pi) / np.std(F_measured))
+
+def noise_floor(noise_std: float, F_measured: np.ndarray) -> float:
+    """Expected OF of the exact model under white force noise of std ``noise_std`` [kN]:
+    OF_floor = E|e| / std(F) = s sqrt(2/pi) / std(F)."""
+    return float(mean_abs_noise(noise_std) / np.std(F_measured))

@@ -31,9 +31,24 @@ class Parameter:
 
 
 @dataclass(frozen=True)
+class Derived:
+    """A quantity computed from a law's parameters, reported beside them
+    (law 8's identifiable slip force mu*N [kN]); ``value(p)`` takes the law's
+    parameter vector (law order); ``factors``: the parameters it combines,
+    which alone may be non-identifiable."""
+
+    name: str
+    unit: str
+    value: Callable
+    description: str
+    factors: tuple = ()
+
+
+@dataclass(frozen=True)
 class Law:
-    """A damper law: ``kernel(d, v, dt, P, substeps) -> F`` with P of shape
-    (pop, n_par) and F of shape (pop, n_t) [kN]; d [mm], v [mm/s], dt [s]."""
+    """A damper law: ``population(d, v, dt, P, substeps) -> F`` evaluates a whole
+    population, P of shape (pop, n_par), F of shape (pop, n_t) [kN]; d [mm],
+    v [mm/s], dt [s].  ``derived``: quantities reported beside the parameters."""
 
     number: int
     name: str
@@ -41,8 +56,9 @@ class Law:
     equation: str
     source: str
     parameters: tuple[Parameter, ...]
-    kernel: Callable
+    population: Callable
     note: str = ""
+    derived: tuple = ()
 
     @property
     def key(self) -> str:
@@ -65,5 +81,5 @@ class Law:
         if P.shape[1] != len(self.parameters):
             raise InputError(f"law {self.number}: expected {len(self.parameters)} parameters "
                              f"({', '.join(self.names)}), got {P.shape[1]}")
-        return self.kernel(np.ascontiguousarray(d, dtype=float), np.ascontiguousarray(v, dtype=float),
+        return self.population(np.ascontiguousarray(d, dtype=float), np.ascontiguousarray(v, dtype=float),
                            float(dt), np.ascontiguousarray(P), int(substeps))

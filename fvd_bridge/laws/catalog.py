@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from . import algebraic, differential
-from .base import Law, Parameter
+from .base import Derived, Law, Parameter
 
 
 def _c_lin(s):  # linear damping coefficient reaching up to 3x the peak force
@@ -94,7 +94,9 @@ LAWS = {
             Parameter("mu", "-", (0.1, 1.0), lambda s: (0.1, 1.0), "friction coefficient"),
             Parameter("N", "kN", (250.0, 450.0), lambda s: (0.0, 2.0 * s["F"]), "normal force")),
            differential.law8,
-           note="only the slip force mu N is identifiable; mu and N alone are not."),
+           note="only the slip force mu N is identifiable; mu and N alone are not.",
+           derived=(Derived("mu*N", "kN", lambda p: p[2] * p[3], "slip force, the identifiable product",
+                            ("mu", "N")),)),
     9: Law(9, "LuGre + viscous", "differential",
            "F = beta z + C v;  dz/dt = v - alpha |v| z",
            "paper eqs. 14-15 with eps = K = F0 = 0 (Canudas de Wit et al.)",

@@ -63,9 +63,11 @@ def dispersion(spec: str, names, devices, means: np.ndarray, sigmas: np.ndarray,
         a.axhline(0.0, ls=":", color="tab:red")
         a.set_xticks(range(len(devices)), devices, rotation=45, fontsize=7)
         a.set_title(f"{name} (mean {ref:.4g})", fontsize=9)
-        a.set_ylabel("variation from mean [%]")
+        if j == 0:
+            a.set_ylabel("variation from mean [%]")
         a.grid(alpha=0.3)
     fig.suptitle(f"law {spec}: identified parameters across devices")
+    fig.tight_layout()
     return save(fig, path)
 
 

@@ -254,7 +254,11 @@ def history(t, d, name: str = "history") -> HistoryProtocol:
 
 def read_history(path: str) -> HistoryProtocol:
     """A CSV with a header holding columns t [s] and d [mm] (other columns
-    ignored, '#' comment lines skipped): a rig or lab record can be replayed."""
+    ignored, '#' comment lines skipped): a rig or lab record can be replayed.
+    A file without header is read as plain 2-column text t [s], d [mm]
+    (blank, comma or semicolon separated)."""
+    from ..frames.motions import read_two_column, starts_with_number
+
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file")
     with open(path, newline="") as fh:
@@ -262,6 +266,10 @@ def read_history(path: str) -> HistoryProtocol:
     first = next((i for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")), None)
     if first is None:
         raise InputError(f"{path}: empty file (expected a header with columns t,d)")
+    if starts_with_number(",".join(rows[first])):  # no header: plain 2-column text
+        t, d = read_two_column(path)
+        base = os.path.splitext(os.path.basename(path))[0]
+        return HistoryProtocol(t, d, name=f"history:{base}", where=path)
     header = [h.strip() for h in rows[first]]
     for col in ("t", "d"):
         if col not in header:

@@ -1,0 +1,1 @@
+"""Structures for the frame examples and their ground motions (``frames.motions``)."""
