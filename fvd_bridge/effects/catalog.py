@@ -13,11 +13,11 @@ import math
 import numpy as np
 
 from ..laws.base import Parameter
-from . import kernels
+from . import steps
 from .base import Effect
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
-FRICTION_V_F = kernels.FRICTION_V_F
+FRICTION_V_F = steps.FRICTION_V_F
 #: series stiffness [kN/mm] at and above which the connection is rigid (the
 #: model without the spring; far above any real oil column, rod or frame)
 KS_RIGID = 1e6
@@ -41,10 +41,10 @@ def gap_motion(P, d, v, a, dt):
       0 while it crosses the clearance (free play).
 
     It starts centred (x = d at t = 0).  The pin's travel is integrated from
-    v (a reversal between samples is located, kernels.play_population).  A
+    v (a reversal between samples is located, steps.play_population).  A
     viscous law then carries no force while the pin crosses the clearance
     after each reversal: a dead band of travel g."""
-    return kernels.play_population(_rows(d), _rows(v), _rows(a), float(dt),
+    return steps.play_population(_rows(d), _rows(v), _rows(a), float(dt),
                                    np.ascontiguousarray(P[:, 0], dtype=float))
 
 
@@ -59,12 +59,12 @@ def series_force(P, law_number, PL, x, xv, xa, dt, r, theta, Ff, substeps=1):
 
     x, xv, xa the damper body's motion (d, v, a, or the gap's output), x_o
     the law's own displacement.  Solved per step by TR-BDF2 with one scalar
-    root-find per stage (kernels.series_population).  Returns the force
+    root-find per stage (steps.series_population).  Returns the force
     through the spring [kN], the law's velocity [mm/s] and the law's force
     with asymmetry and heating [kN], each (pop, n_t).  Ks >= KS_RIGID is a
     rigid connection (handled by the composition: the model without it)."""
     c = np.ascontiguousarray
-    return kernels.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float), c(xa, dtype=float),
+    return steps.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float), c(xa, dtype=float),
                                      float(dt), c(P[:, 0], dtype=float), c(PL, dtype=float), c(r, dtype=float),
                                      c(theta, dtype=float), c(Ff, dtype=float), int(substeps))
 
@@ -73,8 +73,7 @@ def series_force(P, law_number, PL, x, xv, xa, dt, r, theta, Ff, substeps=1):
 def asymmetry_force(P, F, x, xv, dt):
     """Tension/compression asymmetry r [-]: F (1 + r) where F > 0 (tension),
     F (1 - r) where F < 0 (compression)."""
-    r = _col(P, 0)
-    return F * np.where(F > 0.0, 1.0 + r, 1.0 - r)
+    return F * steps.asymmetry_factors(F, _col(P, 0))  # (steps.asymmetry_factor)
 
 
 def thermal_force(P, F, x, xv, dt):
@@ -85,8 +84,8 @@ def thermal_force(P, F, x, xv, dt):
     the energy the law has dissipated so far (its softened force F_out [kN]
     times its velocity xv [mm/s]; 1 kN mm = 1 J).  Computed in the closed
     form exp(theta E) = 1 + theta W0, W0 = 1e-6 integral F xv dt with the
-    unsoftened F (kernels.thermal_population, trapezoidal rule)."""
-    return kernels.thermal_population(np.ascontiguousarray(F, dtype=float), _rows(xv), float(dt),
+    unsoftened F (steps.thermal_population, trapezoidal rule)."""
+    return steps.thermal_population(np.ascontiguousarray(F, dtype=float), _rows(xv), float(dt),
                                       np.ascontiguousarray(P[:, 0], dtype=float))
 
 
@@ -95,7 +94,7 @@ def friction_force(P, t, x, xv, xa):
     """Seal friction Ff [kN]: + Ff tanh(u / v_f), v_f = FRICTION_V_F = 1 mm/s
     (Coulomb friction smoothed over 1 mm/s), u the law's velocity (the
     damper body's velocity xv without a series spring)."""
-    return _col(P, 0) * np.tanh(np.asarray(xv) / FRICTION_V_F)
+    return steps.friction_terms(_col(P, 0), np.asarray(xv))  # (steps.friction_term)
 
 
 def parallel_force(P, t, x, xv, xa):

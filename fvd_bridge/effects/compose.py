@@ -11,7 +11,7 @@
 
 With a series spring, the built-in element effects (asymmetry,
 thermal_softening, friction) are solved inside the spring's implicit step
-(kernels.series_population); a user's output or parallel effect is then
+(steps.series_population); a user's output or parallel effect is then
 applied outside the spring.  Within a stage effects apply in increasing
 ``Effect.order``.  Without any effect the model is the law itself.
 """

@@ -17,10 +17,11 @@ import os
 import numpy as np
 from numba import njit, prange
 
-from .steps import (FASTMATH, LAM_MIN, NEWTON_MAXIT, bouc_wen_constants, bouc_wen_step, kernel, law6_bouc_wen,
-                    law7_constants, law8_constants, law9_constants, linear_force, lugre_step, maxwell_bdf2_rhs,
-                    maxwell_end, maxwell_force, maxwell_newton, maxwell_start, maxwell_tr_rhs, slip_step,
-                    split_travel)
+from .fastmath import FASTMATH, scalar
+from .steps import (bouc_wen_constants, bouc_wen_step, law6_bouc_wen, law8_constants, law9_constants, linear_force,
+                    lugre_step, maxwell_force, slip_step, split_travel)
+from .trbdf2 import (LAM_MIN, NEWTON_MAXIT, law7_constants, maxwell_bdf2_rhs, maxwell_end, maxwell_newton,
+                     maxwell_start, maxwell_tr_rhs)
 
 # OpenMP threads busy-wait between parallel regions by default, taking the CPU
 # that the GA's own Python code and other processes need; on a busy 2-core
@@ -34,7 +35,7 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 # than 4 members one by one (an optimizer's polish evaluates one at a time).
 LANES_32, LANES_16, LANES_1 = (0.0,) * 32, (0.0,) * 16, (0.0,)
 NARROW_BELOW = 4
-parallel_kernel = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model="numpy")
+parallel_driver = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model="numpy")
 
 # Rows of a block's work array (one value per member): the state, the
 # per-member constants (from ``steps.lawN_constants``) and, last, the member's
@@ -60,7 +61,7 @@ def _run(driver, wide, d, v, dt, substeps, *columns):
     return driver(d, v, dt, c, substeps, lanes)[:pop]
 
 
-@kernel
+@scalar
 def _work(c, i0, first, lanes):
     """Work array (rows of len(lanes) values) of the block of members from i0,
     its rows from ``first`` on holding their constants (the rows of c), the
@@ -72,14 +73,14 @@ def _work(c, i0, first, lanes):
     return s
 
 
-@kernel
+@scalar
 def _store(F, k, s, i0):
     """F[i0 + lane, k] = s[FORCE, lane] (a plain loop: a SIMD scatter is slower)."""
     for lane in range(s.shape[1]):
         F[i0 + lane, k] = s[FORCE, lane]
 
 
-@kernel
+@scalar
 def _sub_velocities(v0, v1, j, m):
     """Velocities at the ends of sub-step j of m within one sample step."""
     return v0 + (v1 - v0) * j / m, v0 + (v1 - v0) * (j + 1) / m
@@ -113,7 +114,7 @@ def _travel_force(d, v, dt, c, substeps, lanes, setup, advance):
     return F
 
 
-@kernel
+@scalar
 def _bouc_wen_setup(s):
     """Each lane's constants from its parameters (C, K, alpha, A, beta, gamma)."""
     q = TRAVEL_PARS
@@ -123,13 +124,13 @@ def _bouc_wen_setup(s):
                                                  s[q + 4, lane], s[q + 5, lane])
 
 
-@kernel
+@scalar
 def _bouc_wen_advance(s, u):
     for lane in range(s.shape[1]):
         s[Z, lane] = bouc_wen_step(s[Z, lane], u, s[STEP, lane], s[STEP + 1, lane], s[STEP + 2, lane])
 
 
-@parallel_kernel
+@parallel_driver
 def _bouc_wen_force(d, v, dt, c, substeps, lanes):
     return _travel_force(d, v, dt, c, substeps, lanes, _bouc_wen_setup, _bouc_wen_advance)
 
@@ -147,7 +148,7 @@ def law6(d, v, dt, P, substeps=1):
     return bouc_wen_force(d, v, dt, *law6_bouc_wen.py_func(*P.T), substeps=substeps)
 
 
-@kernel
+@scalar
 def _slip_setup(s):
     """Each lane's constants from its parameters (C, K, mu, N)."""
     q = TRAVEL_PARS
@@ -156,13 +157,13 @@ def _slip_setup(s):
             s[q, lane], s[q + 1, lane], s[q + 2, lane], s[q + 3, lane])
 
 
-@kernel
+@scalar
 def _slip_advance(s, u):
     for lane in range(s.shape[1]):
         s[Z, lane] = slip_step(s[Z, lane], u, s[STEP, lane])
 
 
-@parallel_kernel
+@parallel_driver
 def _slip_force(d, v, dt, c, substeps, lanes):
     return _travel_force(d, v, dt, c, substeps, lanes, _slip_setup, _slip_advance)
 
@@ -172,7 +173,7 @@ def law8(d, v, dt, P, substeps=1):
     return _run(_slip_force, LANES_32, d, v, dt, substeps, *P.T)
 
 
-@kernel
+@scalar
 def _lugre_setup(s):
     """Each lane's constants from its parameters (C, alpha, beta)."""
     q = TRAVEL_PARS
@@ -181,13 +182,13 @@ def _lugre_setup(s):
             s[q, lane], s[q + 1, lane], s[q + 2, lane])
 
 
-@kernel
+@scalar
 def _lugre_advance(s, u):
     for lane in range(s.shape[1]):
         s[Z, lane] = lugre_step(s[Z, lane], u, s[STEP, lane])
 
 
-@parallel_kernel
+@parallel_driver
 def _lugre_force(d, v, dt, c, substeps, lanes):
     return _travel_force(d, v, dt, c, substeps, lanes, _lugre_setup, _lugre_advance)
 
@@ -199,7 +200,7 @@ def law9(d, v, dt, P, substeps=1):
 
 # --- law 7: TR-BDF2 (steps.py) -------------------------------------------------
 
-@kernel
+@scalar
 def _maxwell_first(s, lane, r):
     """Start the solve of x + c sign(x)|x|^p = r in one lane and take the
     first Newton step (``steps.maxwell_start``, ``steps.maxwell_newton``)."""
@@ -210,7 +211,7 @@ def _maxwell_first(s, lane, r):
     s[RHS, lane], s[ABS_R, lane], s[LAM, lane], s[DLAM, lane] = r, R, lam, lam - lam0
 
 
-@kernel
+@scalar
 def _maxwell_polish(s):
     """Further Newton steps until every lane has converged; a lane that has
     stays put, so its result does not depend on the others."""
@@ -231,7 +232,7 @@ def _maxwell_polish(s):
             s[DONE, lane] = done if live else 1.0
 
 
-@kernel
+@scalar
 def _maxwell_end(s, lane):
     """Root of the lane's solve (``steps.maxwell_end``), keeping the slopes
     for the next start."""
@@ -240,7 +241,7 @@ def _maxwell_end(s, lane):
     return x
 
 
-@parallel_kernel
+@parallel_driver
 def _maxwell_force(d, v, dt, c, substeps, lanes):
     """Law 7 for the parameter table c (rows C, alpha, K, beta): F (n_lanes,
     n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K,

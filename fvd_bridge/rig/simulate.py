@@ -34,7 +34,7 @@ import numpy as np
 from ..errors import InputError
 from ..records import Record
 from .device import Device
-from .kernel import STAGE_C, integrate_maxwell
+from .integrator import STAGE_C, integrate_maxwell
 from .protocols import Protocol
 
 #: target of h * (largest rate of the Maxwell equation) per integration step

@@ -1,8 +1,11 @@
-"""Scalar step functions of the stateful effects and their population drivers.
+"""The effects' equations as scalar functions, and their population drivers.
 
 Each equation is written once, as a scalar function of plain arithmetic that
-ports line by line to C (the FMU); the drivers run it for every parameter row
-in parallel (numba prange over the population).  Units: kN, mm, s.
+ports line by line to C (the FMU): the asymmetry factor, the friction term,
+the heat factor, the play step, the series spring's stage equation; the
+drivers run them for every parameter row in parallel (numba prange over the
+population), and ``catalog.py`` applies the stateless ones to whole arrays
+(numba ufuncs of the same functions).  Units: kN, mm, s.
 """
 
 from __future__ import annotations
@@ -10,17 +13,43 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, vectorize
 
-from ..laws.steps import (LAM_MIN, algebraic_force, algebraic_form, bouc_wen_constants, bouc_wen_step,
-                          law6_bouc_wen, law8_constants, law9_constants, linear_force, lugre_step, maxwell_force,
-                          maxwell_log_rate, maxwell_solve, power_term, powsign, sign_log, slip_step, split_travel,
-                          vlog)
+from ..laws.fastmath import powsign, vlog
+from ..laws.steps import (algebraic_force, algebraic_form, bouc_wen_constants, bouc_wen_step, law6_bouc_wen,
+                          law8_constants, law9_constants, linear_force, lugre_step, maxwell_force, maxwell_log_rate,
+                          power_term, sign_log, slip_step, split_travel)
+from ..laws.trbdf2 import LAM_MIN, TRBDF2_GAMMA, maxwell_solve
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = 1.0
 #: J (kN mm) -> MJ
 J_TO_MJ = 1e-6
+
+
+# ------------------------------------------------ stateless terms (scalar + ufunc)
+@njit(cache=True)
+def asymmetry_factor(F, r):
+    """Tension/compression asymmetry: 1 + r where the law force F > 0 (tension),
+    1 - r where F < 0 (compression), 1 at F = 0."""
+    return 1.0 + r if F > 0.0 else (1.0 - r if F < 0.0 else 1.0)
+
+
+@njit(cache=True)
+def friction_term(Ff, u):
+    """Seal friction Ff tanh(u / v_f) [kN], u [mm/s], v_f = FRICTION_V_F."""
+    return Ff * math.tanh(u / FRICTION_V_F)
+
+
+@njit(cache=True)
+def heat_factor(theta, W0):
+    """Heating hf = exp(-theta E) = 1 / (1 + theta W0), theta [1/MJ], W0 [MJ]
+    the energy the unsoftened law would have dissipated (``thermal_population``)."""
+    return 1.0 / (1.0 + theta * W0)
+
+
+asymmetry_factors = vectorize(["float64(float64, float64)"], cache=True)(asymmetry_factor)
+friction_terms = vectorize(["float64(float64, float64)"], cache=True)(friction_term)
 
 
 # ----------------------------------------------------------------- gap (play)
@@ -91,7 +120,7 @@ def thermal_population(F, xv, dt, theta):
         for k in range(1, n):
             p = F[i, k] * xv[r, k]
             W += 0.5 * dt * (p_prev + p) * J_TO_MJ
-            out[i, k] = F[i, k] / (1.0 + theta[i] * W)
+            out[i, k] = F[i, k] * heat_factor(theta[i], W)
             p_prev = p
     return out
 
@@ -194,10 +223,11 @@ def element_force(code, p, x, x0, u, z0, h, r, hf, Ff):
         z = hysteretic_state(code, z0, x - x0, p, h)
         Fl = hysteretic_force(code, x, z, u, p)
         dFdx = 0.0
-    A = 1.0 + r if Fl > 0.0 else (1.0 - r if Fl < 0.0 else 1.0)
+    A = asymmetry_factor(Fl, r)
     Fo = hf * A * Fl
-    th = math.tanh(u / FRICTION_V_F) if Ff != 0.0 else 0.0
-    return Fo + Ff * th, Fo, z, Ff / FRICTION_V_F * (1.0 - th * th), hf * A * dFdx
+    fr = friction_term(Ff, u) if Ff != 0.0 else 0.0
+    th = fr / Ff if Ff != 0.0 else 0.0
+    return Fo + fr, Fo, z, Ff / FRICTION_V_F * (1.0 - th * th), hf * A * dFdx
 
 
 @njit(cache=True)
@@ -211,11 +241,9 @@ def series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
     x = y - w
     Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, h, r, hf, Ff)
     if code <= 5 and code != 1:
-        A = 1.0 + r if Fo > 0.0 else (1.0 - r if Fo < 0.0 else 1.0)
-        dR = hf * A * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq
+        dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq
     elif code == 1:
-        A = 1.0 + r if Fo > 0.0 else (1.0 - r if Fo < 0.0 else 1.0)
-        dR = (hf * A * p[0] + dfric + Ks * hth) * dudq
+        dR = (hf * asymmetry_factor(Fo, r) * p[0] + dfric + Ks * hth) * dudq
     else:
         dR = 0.0  # estimated by the solver from a secant
     return Fi - Ks * w, dR, u, w, Fo, z
@@ -270,10 +298,6 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
     return u, w, Fo, z
 
 
-#: TR-BDF2 split of a step: trapezoidal rule to t + GAMMA h, then BDF2 (L-stable)
-TRBDF_GAMMA = 2.0 - math.sqrt(2.0)
-
-
 @njit(cache=True)
 def hermite_travel(s, h, v0, v1, a0, a1):
     """Travel [mm] from the start of a sample step h [s] to the fraction s of
@@ -324,7 +348,7 @@ def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
     FO = np.zeros((pop, n))
     rows = np.zeros(pop, np.int64) if x.shape[0] == 1 else np.arange(pop)
     h = dt / substeps
-    g = TRBDF_GAMMA
+    g = TRBDF2_GAMMA  # trapezoidal rule to t + g h, then BDF2 (L-stable)
     c_g = 1.0 / (g * (2.0 - g))
     c_0 = (1.0 - g) ** 2 / (g * (2.0 - g))
     c_h = (1.0 - g) / (2.0 - g) * h
@@ -355,7 +379,7 @@ def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
                     tr_h = hermite_travel(f1, dt, v0, v1, a0, a1) - base
                 yg = ya + tr_g
                 yb = y0 + (y1 - y0) * f1 if (jump or j == substeps - 1) else ya + tr_h
-                hf = 1.0 / (1.0 + theta[i] * (W0 + h * pw * J_TO_MJ)) if theta[i] != 0.0 else 1.0
+                hf = heat_factor(theta[i], W0 + h * pw * J_TO_MJ) if theta[i] != 0.0 else 1.0
                 # TR stage to t + g h
                 wb = w + tr_g - 0.5 * g * h * u
                 ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, g * h,
