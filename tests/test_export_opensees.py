@@ -1,0 +1,336 @@
+"""OpenSees export: every law on its golden output, the effects, the scripts,
+what cannot be exported, and a linear SDOF against its closed form."""
+
+from __future__ import annotations
+
+import ast
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("openseespy.opensees")
+
+from fvd_bridge.calibration import Calibration  # noqa: E402
+from fvd_bridge.errors import InputError  # noqa: E402
+from fvd_bridge.export import apply, opensees_commands, opensees_export, to_script  # noqa: E402
+from fvd_bridge.export.opensees import (EXACT_OF, FRICTION_TABLE_ERROR, HYSTERESIS_OF_RATE,  # noqa: E402
+                                        friction_table, step_ratio)
+from fvd_bridge.export.opensees_check import check, drive_element  # noqa: E402
+from fvd_bridge.fit.objective import objective  # noqa: E402
+from fvd_bridge.golden import GOLDEN_DIR, read_golden  # noqa: E402
+from fvd_bridge.model import parse_model  # noqa: E402
+
+EXACT_LAWS = (1, 2, 3, 4, 5, 7, 8)
+OFF = {"series_stiffness.Ks": 1e6, "gap.g": 0.0, "thermal_softening.theta": 0.0, "inertia.m": 0.0,
+       "friction.Ff": 0.0, "asymmetry.r": 0.0, "parallel_stiffness.Kp": 0.0, "parallel_stiffness.F0": 0.0}
+
+
+def golden(spec) -> tuple:
+    """(parameters, t, d, v, a, F) of tests/golden/law<spec>.csv (a = None in a law file)."""
+    pars, cols = read_golden(GOLDEN_DIR / f"law{spec}.csv")
+    return pars, cols["t"], cols["d"], cols["v"], cols.get("a"), cols["F"]
+
+
+def with_effects(spec: str, **effects) -> tuple:
+    """(model, params): the law's golden REFERENCE parameters and the effects' values."""
+    model = parse_model(spec)
+    pars = golden(model.law.number)[0]
+    pars.update({k.replace("__", "."): v for k, v in effects.items()})
+    return model, pars
+
+
+@pytest.mark.parametrize("number", range(1, 10))
+def test_golden_output(number):
+    """Each law's export reproduces its golden force: exact ones to EXACT_OF,
+    BoucWen (laws 6, 9) within the documented bound."""
+    pars, t, d, v, _, F = golden(number)
+    res = check(str(number), pars, t, d, v)
+    assert np.max(np.abs(res.F_model - F)) <= 1e-9 * np.max(np.abs(F))
+    assert res.exact == (number in EXACT_LAWS)
+    assert res.of <= res.bound
+    if res.exact:
+        assert res.of <= EXACT_OF
+    else:
+        assert res.bound == pytest.approx(EXACT_OF + HYSTERESIS_OF_RATE * step_ratio(d))
+        assert 1e-3 < res.of <= 0.005
+
+
+@pytest.mark.parametrize("spec,pars,every", [
+    ("9", {"C": 0.0, "alpha": 0.02, "beta": 27.0}, 5),  # small decay rate: the worst case measured
+    ("9", {"C": 0.2, "alpha": 1.0, "beta": 27.0}, 20),
+    ("6", {"C": 0.25, "K": 60.0, "alpha": 0.01, "beta": 0.01}, 20),
+    ("8", {"C": 0.25, "K": 30.0, "mu": 0.5, "N": 330.0}, 10),  # exact: the bound grows as the step squared
+])
+def test_bound_at_coarse_steps(spec, pars, every):
+    _, t, d, v, _, _ = golden(2)
+    res = check(spec, pars, t[::every], d[::every], v[::every])
+    assert res.of <= res.bound
+
+
+@pytest.mark.parametrize("spec", ["2+asymmetry", "2+friction", "2+parallel_stiffness", "2+series_stiffness",
+                                  "9+friction", "9+parallel_stiffness"])
+def test_model_golden_output(spec):
+    """The exportable model goldens (law 2 or 9 with one effect)."""
+    pars, t, d, v, a, F = golden(spec)
+    res = check(spec, pars, t, d, v, a)
+    assert np.max(np.abs(res.F_model - F)) <= 1e-9 * np.max(np.abs(F))
+    assert res.of <= res.bound
+    assert res.exact == (spec in ("2+asymmetry", "2+parallel_stiffness", "2+series_stiffness"))
+    assert res.of <= (EXACT_OF if spec.startswith("2") else 0.005)
+
+
+@pytest.mark.parametrize("spec,effects", [
+    ("3+asymmetry", {"asymmetry__r": -0.2}),
+    ("2+parallel_stiffness", {"parallel_stiffness__Kp": 0.0, "parallel_stiffness__F0": -10.0}),
+    ("1+series_stiffness", {"series_stiffness__Ks": 20.0}),
+    ("5+asymmetry+friction+parallel_stiffness",
+     {"asymmetry__r": 0.05, "friction__Ff": 3.0, "parallel_stiffness__Kp": 1.0, "parallel_stiffness__F0": 5.0}),
+    ("8+friction+parallel_stiffness",
+     {"friction__Ff": 3.0, "parallel_stiffness__Kp": -1.0, "parallel_stiffness__F0": 5.0}),
+])
+def test_effects(spec, effects):
+    model, pars = with_effects(spec, **effects)
+    _, t, d, v, _, _ = golden(model.law.number)
+    res = check(model, pars, t, d, v)
+    assert res.exact == ("friction" not in spec)
+    assert res.of <= min(res.bound, EXACT_OF)
+
+
+def test_law4_negative_quadratic_term():
+    """K2 d^2 stays even in d for K2 < 0 (two TensionOnly halves)."""
+    pars, t, d, v, _, _ = golden(4)
+    res = check("4", dict(pars, K2=-0.1), t, d, v)
+    assert res.exact and res.of <= 1e-12
+
+
+def test_series_stiffness_is_viscous_damper():
+    """Law 2 + series_stiffness is OpenSees' ViscousDamper Ks C alpha, the
+    composed (Maxwell) model, both at material level and in a zeroLength element."""
+    pars, t, d, v, a, _ = golden("2+series_stiffness")
+    export = opensees_export("2+series_stiffness", pars, tag=7)
+    assert export.commands == [("uniaxialMaterial", "ViscousDamper", 7, 50.0, 45.0, 0.3)]
+    for element in (False, True):
+        res = check("2+series_stiffness", pars, t, d, v, a, element=element)
+        assert res.exact and res.of <= EXACT_OF
+
+
+def test_law7_series_stiffness_adds_springs():
+    """Law 7 (beta = 1) behind Ks: ViscousDamper with K Ks/(K + Ks), against
+    the composed model resolved by 64 substeps."""
+    model, pars = with_effects("7+series_stiffness", series_stiffness__Ks=150.0)
+    (_, kind, _, K, C, alpha), = opensees_commands(model, pars)
+    assert (kind, K, C, alpha) == ("ViscousDamper", pytest.approx(60.0), 45.0, 0.3)
+    _, t, d, v, _, _ = golden(7)
+    res = check(model, pars, t, d, v, substeps=64)
+    assert res.of <= EXACT_OF
+
+
+def test_viscous_damper_in_element():
+    """Law 7 in a zeroLength element under imposed displacement (TRBDF2 and Newmark)."""
+    pars, t, d, v, _, F = golden(7)
+    export = opensees_export("7", pars)
+    for integrator in (("TRBDF2",), ("Newmark", 0.5, 0.25)):
+        F_ops = drive_element(export, export.tag, t, d, integrator)
+        assert objective(F, F_ops, t) <= EXACT_OF
+
+
+def test_effects_off_are_left_out():
+    model, pars = with_effects("2+gap+series_stiffness+asymmetry+thermal_softening+friction"
+                               "+parallel_stiffness+inertia", **{k.replace(".", "__"): x for k, x in OFF.items()})
+    assert opensees_commands(model, pars, tag=3) == [("uniaxialMaterial", "Viscous", 3, 45.0, 0.3)]
+
+
+def test_tags():
+    """The damper is material ``tag`` (defined last); helpers are tag+1, tag+2, ..."""
+    model, pars = with_effects("3+friction+parallel_stiffness", friction__Ff=2.0,
+                               parallel_stiffness__Kp=1.0, parallel_stiffness__F0=3.0)
+    commands = opensees_commands(model, pars, tag=100)
+    tags = [c[2] for c in commands]
+    assert tags[-1] == 100 and commands[-1][1] == "Parallel"
+    assert sorted(tags[:-1]) == list(range(101, 101 + len(tags) - 1))
+
+
+def _parse_py(text: str) -> list:
+    out = []
+    for line in text.splitlines():
+        if line.startswith("ops."):
+            name, args = line[4:].split("(", 1)
+            out.append((name, *ast.literal_eval("(" + args[:-1] + ",)")))
+    return out
+
+
+def _parse_tcl(text: str) -> list:
+    def value(token):
+        if token.lstrip("-").isdigit():
+            return int(token)
+        try:
+            return float(token)
+        except ValueError:
+            return token
+    return [tuple(value(tok) if i else tok for i, tok in enumerate(line.split()))
+            for line in text.splitlines() if line and not line.startswith("#")]
+
+
+@pytest.mark.parametrize("spec,effects", [
+    ("2", {}), ("4", {}), ("6", {}), ("2+series_stiffness", {"series_stiffness__Ks": 150.0}),
+    ("3+asymmetry+friction+parallel_stiffness",
+     {"asymmetry__r": 0.1, "friction__Ff": 2.0, "parallel_stiffness__Kp": 1.0, "parallel_stiffness__F0": 3.0}),
+])
+def test_scripts_define_the_same_materials(spec, effects):
+    model, pars = with_effects(spec, **effects)
+    export = opensees_export(model, pars, tag=5)
+    py, tcl = to_script(export, "py"), to_script(export, "tcl")
+    assert py.splitlines()[2] == "import openseespy.opensees as ops"
+    assert _parse_py(py) == export.commands == _parse_tcl(tcl)
+    assert ("# needs TensionOnly" in tcl) == any(c[1] == "TensionOnly" for c in export.commands)
+    if spec == "2":
+        assert tcl.splitlines()[-1] == "uniaxialMaterial Viscous 5 45.0 0.3"
+    import openseespy.opensees as ops
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    exec(py, {})  # the script runs as written and defines the damper
+    ops.testUniaxialMaterial(5)
+    ops.setStrain(0.1, 2.0)
+    # ViscousDamper is NaN before an analysis has set the time step (opensees_check.drive_material)
+    assert math.isfinite(ops.getStress()) or spec == "2+series_stiffness"
+    ops.wipe()
+
+
+@pytest.mark.parametrize("spec,effects,words", [
+    ("7", {"beta": 0.5}, "law 7 with beta = 0.5"),
+    ("3+series_stiffness", {"series_stiffness__Ks": 150.0}, "law 3 behind series_stiffness"),
+    ("2+series_stiffness+friction", {"series_stiffness__Ks": 150.0, "friction__Ff": 1.0}, "friction inside"),
+    ("2+gap", {"gap__g": 0.5}, "gap"),
+    ("2+thermal_softening", {"thermal_softening__theta": 0.1}, "thermal_softening"),
+    ("2+inertia", {"inertia__m": 50.0}, "inertia"),
+    ("6+asymmetry", {"asymmetry__r": 0.1}, "asymmetry of law 6"),
+])
+def test_cannot_export(spec, effects, words):
+    model, pars = with_effects(spec, **effects)
+    with pytest.raises(InputError) as err:
+        opensees_export(model, pars)
+    msg = str(err.value)
+    assert f"model {spec}" in msg and words in msg and "fvd-bridge export fmu" in msg and "\n" not in msg
+
+
+def test_missing_parameter():
+    with pytest.raises(InputError, match="model 2: parameter 'alpha' is missing"):
+        opensees_export("2", {"C": 45.0})
+
+
+def test_friction_table_error():
+    v, F = friction_table(2.0)
+    x = np.linspace(-12.0, 12.0, 200001)
+    assert np.max(np.abs(np.interp(x, v, F) - 2.0 * np.tanh(x))) <= FRICTION_TABLE_ERROR * 2.0
+
+
+def test_from_calibration_file():
+    """A calibrated parameter file goes straight to the exporter (schema 1 fixture)."""
+    cal = Calibration.load(str(GOLDEN_DIR.parent / "fixtures" / "calibration_v1" / "law2+friction.yaml"))
+    export = opensees_export(cal.model, cal.named(), tag=1)
+    kinds = [c[1] for c in export.commands]
+    assert kinds == ["Viscous", "ElasticMultiLinear", "Damper", "Parallel"] and export.commands[-1][2] == 1
+    assert export.commands[0][3:] == (cal.named()["C"], cal.named()["alpha"])
+
+
+def test_linear_sdof_free_vibration():
+    """Mass m, spring k and the exported linear Viscous damper c (law 1) in
+    zeroLength elements, released from u0: the closed-form damped response
+    u = e^(-zeta wn t) (u0 cos wd t + zeta wn u0 / wd sin wd t) to 1e-3 of u0."""
+    import openseespy.opensees as ops
+
+    m, k, zeta, u0 = 1e-3, 1.0, 0.05, 10.0  # kN s^2/mm (1000 kg), kN/mm, -, mm
+    wn = math.sqrt(k / m)
+    c, wd = 2.0 * zeta * m * wn, wn * math.sqrt(1.0 - zeta ** 2)
+    dt, n = 2.0 * math.pi / wn / 1000.0, 5000
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.node(1, 0.0)
+    ops.node(2, 0.0)
+    ops.fix(1, 1)
+    ops.mass(2, m)
+    ops.uniaxialMaterial("Elastic", 1, k)
+    apply(opensees_export("1", {"C": c}, tag=2), ops)
+    ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
+    ops.element("zeroLength", 2, 1, 2, "-mat", 2, "-dir", 1)
+    ops.setNodeDisp(2, 1, u0, "-commit")
+    ops.setNodeAccel(2, 1, -k * u0 / m, "-commit")
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 20)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    u = [u0]
+    for _ in range(n):
+        assert ops.analyze(1, dt) == 0
+        u.append(ops.nodeDisp(2, 1))
+    ops.wipe()
+    t = np.arange(n + 1) * dt
+    exact = np.exp(-zeta * wn * t) * (u0 * np.cos(wd * t) + zeta * wn * u0 / wd * np.sin(wd * t))
+    assert np.max(np.abs(np.array(u) - exact)) <= 1e-3 * u0
+
+
+# ------------------------------------------------------------ the export verb
+@pytest.fixture(scope="module")
+def calibrated(tmp_path_factory):
+    """A rig device (law 2 + seal friction) calibrated with laws 2, 9 and 2+gap: files and record."""
+    import subprocess
+    import sys
+
+    from conftest import cli_env
+    from fvd_bridge.rig import Device, Noise, paper, write_series
+
+    out = tmp_path_factory.mktemp("exp")
+    path = write_series(str(out / "rec"), [Device(C=45.4, alpha=0.3, friction=3.0, name="dev")], paper(cycles=3),
+                        Noise(force=1.0, displacement=0.005), seed=3)[0]
+    res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "2,9,2+gap",
+                          "--runs", "1", "--pop", "8", "--gens", "40", "--out", str(out / "cal"), "--jobs", "1",
+                          "--quiet", "--no-figures"], capture_output=True, text=True, env=cli_env())
+    assert res.returncode == 0, res.stderr
+    return out / "cal" / "params" / "dev", path
+
+
+def _export(*args, cwd=None):
+    import subprocess
+    import sys
+
+    from conftest import cli_env
+
+    return subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "export", "opensees", *args],
+                          capture_output=True, text=True, env=cli_env(), cwd=cwd)
+
+
+@pytest.mark.parametrize("law", ["2", "9"])
+def test_export_verb_checks_on_the_calibration_record(calibrated, tmp_path, law):
+    params, record = calibrated
+    out = tmp_path / f"damper{law}.py"
+    res = _export(str(params / f"law{law}.yaml"), "-o", str(out), "--tag", "1000", "--check", record)
+    assert res.returncode == 0, res.stderr
+    assert "within the bound" in res.stderr and out.is_file()
+    import openseespy.opensees as ops  # the script defines the material in a fresh OpenSees model
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    exec(out.read_text().replace("import openseespy.opensees as ops", ""), {"ops": ops})
+    ops.testUniaxialMaterial(1000)
+    ops.setStrain(1.0, 100.0)
+    assert ops.getStress() > 0.0
+    ops.wipe()
+
+
+def test_export_verb_refuses_what_opensees_cannot_express(calibrated, tmp_path):
+    import yaml
+
+    params, _ = calibrated
+    data = yaml.safe_load(open(params / "law2+gap.yaml"))
+    data["parameters"]["gap.g"]["value"] = 1.0  # a clear pin gap
+    (tmp_path / "law2+gap.yaml").write_text(yaml.safe_dump(data))
+    out = tmp_path / "gap.tcl"
+    res = _export(str(tmp_path / "law2+gap.yaml"), "-o", str(out))
+    assert res.returncode == 2 and res.stderr.count("\n") == 1 and "fvd-bridge export fmu" in res.stderr
+    assert not out.exists()
+    res = _export(str(tmp_path / "missing.yaml"))
+    assert res.returncode == 2 and "missing.yaml" in res.stderr and "Traceback" not in res.stderr
