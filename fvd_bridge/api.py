@@ -19,16 +19,17 @@ from .errors import InputError
 
 
 def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = "de",
-              bounds: str = "auto", plugins=()) -> Calibration:
+              bounds: str = "auto", plugins=(), pop: int | None = None, gens: int | None = None) -> Calibration:
     """Fit one model to one record ``runs`` times (seeds (seed, run)); the best
-    run as a Calibration with the post-fit warnings and the run statistics."""
+    run as a Calibration with the post-fit warnings and the run statistics.
+    ``pop``, ``gens``: optimizer settings as `calibrate --pop --gens` (None: defaults)."""
     from .campaign.checks import fit_warnings
     from .fit import fit_model, settings_for
 
     m = catalog(plugins).model(model_or_spec) if isinstance(model_or_spec, str) else model_or_spec
     if int(runs) < 1:
         raise InputError(f"runs {runs}: must be at least 1")
-    settings = settings_for(optimizer)
+    settings = settings_for(optimizer, pop, gens)
     fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, r], settings=settings)
             for r in range(int(runs))]
     best = min(fits, key=lambda f: f.of)
