@@ -153,12 +153,13 @@ def law6_constants(p):
 
 
 @njit(cache=True, error_model="numpy")  # as the law kernels it inlines: x/0 = inf
-def hysteretic_state(code, z0, u, p, h):
-    """Internal variable z of laws 6-9 after a law travel u [mm] over h [s]:
-    the exact steps of laws 6, 8, 9 (fvd_bridge.laws.steps); law 7 by a
-    backward-Euler step over h, x + h q phi(x) = z0 + u (``steps.maxwell_solve``):
-    the series solve passes the travel of each TR-BDF2 stage, and inside a
-    series spring the law's own dashpot may be arbitrarily stiff."""
+def hysteretic_state(code, z0, u, p, zb, hz):
+    """Internal variable z of laws 6-9 at the end of a stage in which the law
+    travels u [mm]: the exact steps of laws 6, 8, 9 (fvd_bridge.laws.steps)
+    from z0; law 7 by the series spring's own TR-BDF2 stage (the rule the plain
+    law uses too): z + hz q phi(z) = zb + u, zb the stage's known part
+    (``law7_stage``), solved by ``trbdf2.maxwell_solve`` (inside a series
+    spring the law's own dashpot may be arbitrarily stiff)."""
     if code == 6:
         A, beta, gamma = law6_constants(p)[3:]
         return bouc_wen_step(z0, u, A, beta, gamma)
@@ -166,7 +167,15 @@ def hysteretic_state(code, z0, u, p, h):
         return slip_step(z0, u, law8_constants(p[0], p[1], p[2], p[3])[3])
     if code == 9:
         return lugre_step(z0, u, law9_constants(p[0], p[1], p[2])[3])
-    return maxwell_solve(z0 + u, math.log(h) + maxwell_log_rate(p[0], p[1], p[2]), p[3] / p[1])
+    return maxwell_solve(zb + u, math.log(hz) + maxwell_log_rate(p[0], p[1], p[2]), p[3] / p[1])
+
+
+@njit(cache=True)
+def law7_rate(z, p):
+    """q phi(z) = q sign(z)|z|^(beta/alpha), q = (K/C)^(1/alpha) (paper eq. 11) [mm/s]."""
+    if z == 0.0:
+        return 0.0
+    return math.copysign(math.exp(maxwell_log_rate(p[0], p[1], p[2]) + p[3] / p[1] * math.log(abs(z))), z)
 
 
 @njit(cache=True, error_model="numpy")  # as the law kernels it inlines: x/0 = inf
@@ -209,7 +218,7 @@ def q_to_u(q, a):
 
 
 @njit(cache=True)
-def element_force(code, p, x, x0, u, z0, h, r, hf, Ff):
+def element_force(code, p, x, x0, u, z0, zb, hz, r, hf, Ff):
     """Internal element at the end of a step: the law at displacement x [mm]
     (x0 at the step start) and velocity u [mm/s], with asymmetry r [-] and
     heat factor hf [-], plus friction Ff tanh(u / v_f) [kN].
@@ -220,7 +229,7 @@ def element_force(code, p, x, x0, u, z0, h, r, hf, Ff):
     if code <= 5:
         Fl, dFdx = algebraic_law(code, x, u, p)
     else:
-        z = hysteretic_state(code, z0, x - x0, p, h)
+        z = hysteretic_state(code, z0, x - x0, p, zb, hz)
         Fl = hysteretic_force(code, x, z, u, p)
         dFdx = 0.0
     A = asymmetry_factor(Fl, r)
@@ -231,7 +240,7 @@ def element_force(code, p, x, x0, u, z0, h, r, hf, Ff):
 
 
 @njit(cache=True)
-def series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
+def series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
     """R(q) = F_int(x(u), u) - Ks w(u), u = u(q), w(u) = wb - hth u, x = y - w.
 
     R increases with q; returns R, dR/dq (Newton; exact for laws 1-5,
@@ -239,7 +248,7 @@ def series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
     u, dudq = q_to_u(q, a)
     w = wb - hth * u
     x = y - w
-    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, h, r, hf, Ff)
+    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, zb, hz, r, hf, Ff)
     if code <= 5 and code != 1:
         dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq
     elif code == 1:
@@ -250,7 +259,7 @@ def series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
 
 
 @njit(cache=True)
-def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
+def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
     """Solve R(q) = 0 (series_residual, R increasing) for one step.
 
     Newton from ``q_guess`` (secant slopes for laws 6-9); until the signs of
@@ -259,7 +268,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
     Returns u, w, F_o, z at the root."""
     lo, hi = -math.inf, math.inf
     q = q_guess
-    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
     q_prev, R_prev = math.nan, math.nan
     scale = 0.5 * abs(q) + 1e-3
     for _ in range(200):
@@ -274,7 +283,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
                 dR = (R - R_prev) / (q - q_prev)
             else:
                 dq = 1e-7 * (1.0 + abs(q))
-                R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)[0]
+                R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)[0]
                 dR = (R2 - R) / dq
         step = R / dR if dR > 0.0 else math.nan
         if abs(step) <= 1e-9 * (1.0 + abs(q)):
@@ -290,11 +299,11 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff):
             qn = 0.5 * (lo + hi)
             if hi - lo <= 1e-14 * (1.0 + abs(qn)):
                 q = qn
-                R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+                R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
                 break
         q_prev, R_prev = q, R
         q = qn
-        R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, h, Ks, r, hf, Ff)
+        R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
     return u, w, Fo, z
 
 
@@ -382,14 +391,18 @@ def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
                 hf = heat_factor(theta[i], W0 + h * pw * J_TO_MJ) if theta[i] != 0.0 else 1.0
                 # TR stage to t + g h
                 wb = w + tr_g - 0.5 * g * h * u
-                ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, g * h,
+                hz = 0.5 * g * h  # law 7's trapezoidal stage: z + hz q phi(z) = z - hz q phi(z0) + travel
+                zb = z - hz * law7_rate(z, p) if code == 7 else 0.0
+                ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, zb, hz,
                                               ks, r[i], hf, Ff[i])
                 pwg = fog * ug / hf
                 # BDF2 stage to t + h
                 wb = c_g * wg - c_0 * w + tr_h - c_g * tr_g
                 qg = powsign(ug, a) if a != 1.0 else ug
+                # law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1)
+                zb = c_g * zg - c_0 * z - c_0 * (yg - wg - xl) if code == 7 else 0.0
                 u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg,
-                                             (1.0 - g) * h, ks, r[i], hf, Ff[i])
+                                             zb, c_h, ks, r[i], hf, Ff[i])
                 pw1 = fo * u1 / hf
                 W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
                 pw = pw1

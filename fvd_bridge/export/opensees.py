@@ -29,7 +29,7 @@ law / effect            OpenSees materials                                  kind
 9 LuGre                 Parallel(BoucWen 0 beta 1 0 alpha 1 0 0 0,          approx  0.0035
                         Viscous C 1)
 series_stiffness        laws 1, 2: ViscousDamper Ks C alpha                 exact   7.9e-5 (2)
-                        law 7, beta 1: ViscousDamper K Ks/(K+Ks) C alpha    exact   0.0032 [b]
+                        law 7, beta 1: ViscousDamper K Ks/(K+Ks) C alpha    exact   9.1e-5 [b]
 asymmetry               laws 1-5: Parallel(TensionOnly(M),                  exact   9e-17 (2)
                         TensionOnly(Multiplier M -1)) -factors a b [a]
 friction                Damper(ElasticMultiLinear table of Ff tanh(v/v_f))  approx  9e-7 (2)
@@ -44,7 +44,8 @@ classic Tcl OpenSees (TclModelBuilderUniaxialMaterialCommand.cpp): the Tcl
 script says so.  [b] the error is fvd_bridge's (TR-BDF2, one step per
 sample): against the kernel at 32 substeps OpenSees is off by 3.5e-8 (law 7),
 against law 7 with K Ks/(K+Ks) by 2.6e-8 (Ks 150; the composed 7 +
-series_stiffness converges at first order in substeps, 6e-5 at 64).
+series_stiffness, whose spring sees the motion as a cubic Hermite of v and a
+where the plain law sees v linear, stays 6.8e-5 from it at any substeps).
 [c] ElasticPP sees the sampled displacement only and misses a velocity
 reversal inside a step (the kernel splits the step there).  In a zeroLength
 element under imposed displacement (``drive_element``, Newmark 0.5 0.25) the
