@@ -23,3 +23,15 @@ def test_mr_damper_example(device_files, tmp_path):
     # the passive MR damper is friction-like: every hysteretic law beats the linear dashpot clearly
     assert all(of[k] < 0.6 * of[1] for k in (6, 8, 9))
     assert (out / "figures" / "loops_mr_damper_0V_law9.png").is_file()
+
+
+def test_frames_compare_example(shared_dir, tmp_path):
+    """A 2-device series, laws 1, 2, 7 (beta 1), 9 in the 3-story frame under 4 s of El Centro."""
+    out = tmp_path / "fr"
+    res = run_example("frames_compare.py", "--out", str(out), "--devices", "2", "--duration", "4", "--quick",
+                      cwd=tmp_path)
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert "verdict: best-fitting model" in res.stdout
+    rows = (out / "frame" / "frame_table.csv").read_text().splitlines()
+    assert len(rows) == 1 + 1 + 2 * 4  # header, bare frame, 2 devices x 4 laws
+    assert (out / "frame" / "figures" / "drift_profiles.png").is_file()

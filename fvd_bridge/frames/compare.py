@@ -1,0 +1,164 @@
+"""Compare calibrated damper models in a frame under a ground motion.
+
+Each calibration (a law or law + effects fitted on one device) becomes the
+damper of every story through the OpenSees export; the bare frame is the
+reference.  Per case: peak interstory drift ratio, residual drift ratio,
+peak absolute floor acceleration, peak damper force and stroke, energy the
+dampers dissipated, and whether the damper left the range it was tested in
+(stroke or force beyond the calibration record's peaks, or the given limits).
+Over the devices of a production series each quantity's spread (min, mean,
+max, coefficient of variation) per model; the verdict names the simplest
+model whose peak drift and damper force stay within VERDICT_TOLERANCE of the
+best-fitting model's (lowest mean OF on the calibration records).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from .analysis import DAMPER_TAGS_FROM, FrameResult, run_frame
+
+#: a simpler model is as good as the best-fitting one within this share
+VERDICT_TOLERANCE = 0.05
+
+#: design quantities of a case: key, label, unit
+QUANTITIES = (
+    ("drift", "peak interstory drift ratio", "%"),
+    ("residual", "residual drift ratio", "%"),
+    ("pfa", "peak floor acceleration", "g"),
+    ("force", "peak damper force", "kN"),
+    ("stroke", "peak damper stroke", "mm"),
+    ("energy", "damper energy", "kJ"),
+)
+
+
+@dataclass
+class Case:
+    """One frame analysis: the bare frame (spec None) or one calibration's damper."""
+
+    label: str
+    spec: str | None
+    device: str | None
+    of: float | None
+    result: FrameResult | None = None
+    exact: bool | None = None
+    note: str = ""
+    limits: dict = field(default_factory=dict)  # {'stroke': mm, 'force': kN}
+    exceeded: list = field(default_factory=list)
+    n_params: int = 0
+
+    def values(self) -> dict:
+        """The design quantities (QUANTITIES) of this case; NaN where they do not apply."""
+        r = self.result
+        nan = float("nan")
+        if r is None:
+            return {k: nan for k, _, _ in QUANTITIES}
+        has = r.damper_force is not None
+        return {"drift": 100.0 * r.max_drift_ratio,
+                "residual": 100.0 * float(np.nanmax(np.abs(r.residual_drift_ratio))),
+                "pfa": float(np.max(r.peak_floor_acceleration_g)),
+                "force": float(np.max(r.peak_damper_force)) if has else nan,
+                "stroke": float(np.max(r.peak_damper_stroke)) if has else nan,
+                "energy": 1e-3 * r.total_damper_energy if has else nan}
+
+
+def _limits(cal, stroke_limit, force_limit) -> dict:
+    """Given limits, else the calibration record's peaks (the tested range)."""
+    peaks = (cal.record or {}).get("peaks") or {}
+    return {"stroke": stroke_limit if stroke_limit is not None else peaks.get("d"),
+            "force": force_limit if force_limit is not None else peaks.get("F")}
+
+
+def _exceeded(case: Case) -> list:
+    v = case.values()
+    out = []
+    for key, what in (("stroke", "stroke"), ("force", "force")):
+        limit = case.limits.get(key)
+        if limit and np.isfinite(v[key]) and v[key] > limit:
+            unit = "mm" if key == "stroke" else "kN"
+            out.append(f"peak damper {what} {v[key]:.4g} {unit} exceeds {limit:.4g} {unit}")
+    if case.result is not None and not case.result.solver.completed:
+        out.append(case.result.solver.message)
+    return out
+
+
+def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=None, dt_analysis=None,
+              progress=None) -> list[Case]:
+    """The bare frame, then one analysis per calibration (fvd_bridge.calibration.Calibration).
+
+    A model OpenSees cannot express is kept as a case without result, its note
+    saying why (the FMU export is the way for it)."""
+    from ..export.opensees import opensees_export
+
+    runs = [(Case("bare frame", None, None, None), None)]
+    for cal in calibrations:
+        device = (cal.record or {}).get("name") or "device"
+        case = Case(f"law {cal.spec} | {device}", cal.spec, device, float(cal.of),
+                    limits=_limits(cal, stroke_limit, force_limit), n_params=len(cal.model.names))
+        commands = None
+        try:
+            export = opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM)
+            case.exact, case.note, commands = export.exact, export.note, export.commands
+        except InputError as exc:
+            case.note = str(exc)
+        runs.append((case, commands))
+    for case, commands in runs:
+        if case.spec is not None and commands is None:
+            if progress:
+                progress(f"{case.label}: skipped ({case.note})")
+            continue
+        case.result = run_frame(building, motion, commands, DAMPER_TAGS_FROM, dt_analysis=dt_analysis)
+        case.exceeded = _exceeded(case)
+        if progress:
+            v = case.values()
+            progress(f"{case.label}: peak drift {v['drift']:.3f}%, damper force {v['force']:.4g} kN "
+                     f"({', '.join(case.result.solver.algorithms_used)})")
+    return [case for case, _ in runs]
+
+
+def series_spread(cases) -> dict:
+    """{spec: {quantity: (min, mean, max, cov)}} over the devices of each model
+    (cov = std / |mean|, NaN for a single device); plus 'devices' and 'of'."""
+    out = {}
+    for spec in dict.fromkeys(c.spec for c in cases if c.spec is not None and c.result is not None):
+        group = [c for c in cases if c.spec == spec and c.result is not None]
+        values = [c.values() for c in group]
+        stats = {}
+        for key, _, _ in QUANTITIES:
+            x = np.array([v[key] for v in values], dtype=float)
+            mean = float(np.mean(x))
+            cov = float(np.std(x) / abs(mean)) if len(x) > 1 and mean != 0.0 else float("nan")
+            stats[key] = (float(np.min(x)), mean, float(np.max(x)), cov)
+        stats["devices"] = [c.device for c in group]
+        stats["of"] = float(np.mean([c.of for c in group]))
+        stats["n_params"] = group[0].n_params
+        out[spec] = stats
+    return out
+
+
+def verdict(spread: dict) -> str:
+    """The simplest model (fewest parameters, then lowest law number) whose mean
+    peak drift and damper force are within VERDICT_TOLERANCE of the best-fitting
+    model's, with the series scatter (CoV) as the yardstick."""
+    if not spread:
+        return "no damper model ran"
+    best = min(spread, key=lambda s: spread[s]["of"])
+    ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
+
+    def close(s):
+        return (abs(spread[s]["drift"][1] - ref_drift) <= VERDICT_TOLERANCE * abs(ref_drift)
+                and abs(spread[s]["force"][1] - ref_force) <= VERDICT_TOLERANCE * abs(ref_force))
+
+    simplest = min((s for s in spread if close(s)), key=lambda s: (spread[s]["n_params"], s))
+    scatter = [spread[s][q][3] for s in spread for q in ("drift", "force") if np.isfinite(spread[s][q][3])]
+    yard = (f"; the series' own scatter (CoV over devices) reaches {100 * max(scatter):.1f}%"
+            if scatter else "; one device per model, no series scatter to compare with")
+    diffs = {s: max(abs(spread[s]["drift"][1] / ref_drift - 1), abs(spread[s]["force"][1] / ref_force - 1))
+             for s in spread}
+    spread_laws = max(diffs.values())
+    return (f"best-fitting model: law {best} (mean OF {spread[best]['of']:.4g}); simplest within "
+            f"{100 * VERDICT_TOLERANCE:.0f}% on peak drift and damper force: law {simplest}; the choice of model "
+            f"changes them by up to {100 * spread_laws:.1f}%{yard}")

@@ -1,0 +1,77 @@
+"""Frame figures: drift profiles with the series band, damper hysteresis in
+the frame, roof drift and damper force histories."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .save import save  # noqa: E402
+
+
+def _specs(cases):
+    return list(dict.fromkeys(c.spec for c in cases if c.spec is not None and c.result is not None))
+
+
+def drift_profiles(cases, title: str, path: str) -> str:
+    """Peak interstory drift ratio per story: the bare frame, and per model the
+    mean over the series' devices with its min-max band."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 5), layout="constrained")
+    bare = next(c for c in cases if c.spec is None)
+    stories = np.arange(1, bare.result.peak_drift_ratio.size + 1)
+    for a, attr, label in ((ax[0], "peak_drift_ratio", "peak interstory drift ratio [%]"),
+                           (ax[1], "peak_floor_acceleration_g", "peak floor acceleration [g]")):
+        a.plot(100 * getattr(bare.result, attr) if attr == "peak_drift_ratio" else getattr(bare.result, attr),
+               stories, "k--o", label="bare frame")
+        for k, spec in enumerate(_specs(cases)):
+            rows = np.array([getattr(c.result, attr) for c in cases if c.spec == spec and c.result is not None])
+            rows = 100 * rows if attr == "peak_drift_ratio" else rows
+            color = f"C{k % 10}"
+            a.plot(rows.mean(axis=0), stories, "-o", color=color, label=f"law {spec} ({len(rows)} devices)")
+            if len(rows) > 1:
+                a.fill_betweenx(stories, rows.min(axis=0), rows.max(axis=0), color=color, alpha=0.2)
+        a.set_xlabel(label)
+        a.set_ylabel("story (floor level for accelerations)")
+        a.set_yticks(stories)
+        a.grid(alpha=0.3)
+    ax[0].legend(fontsize=8)
+    fig.suptitle(title)
+    return save(fig, path)
+
+
+def hysteresis(cases, story: int, title: str, path: str) -> str:
+    """Damper force against deformation in ``story`` (0 = first), first device of each model."""
+    fig, ax = plt.subplots(figsize=(6.5, 5), layout="constrained")
+    for k, spec in enumerate(_specs(cases)):
+        c = next(c for c in cases if c.spec == spec and c.result is not None)
+        ax.plot(c.result.damper_deformation[:, story], c.result.damper_force[:, story], lw=0.7,
+                color=f"C{k % 10}", label=f"law {spec} ({c.device})")
+    ax.set_xlabel("damper deformation [mm]")
+    ax.set_ylabel("damper force [kN]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    return save(fig, path)
+
+
+def histories(cases, title: str, path: str) -> str:
+    """Roof displacement and first-story damper force against time."""
+    fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True, layout="constrained")
+    bare = next(c for c in cases if c.spec is None)
+    ax[0].plot(bare.result.t, bare.result.floor_displacement[:, -1], "k", lw=0.7, label="bare frame")
+    for k, spec in enumerate(_specs(cases)):
+        c = next(c for c in cases if c.spec == spec and c.result is not None)
+        ax[0].plot(c.result.t, c.result.floor_displacement[:, -1], lw=0.7, color=f"C{k % 10}",
+                   label=f"law {spec}")
+        ax[1].plot(c.result.t, c.result.damper_force[:, 0], lw=0.7, color=f"C{k % 10}")
+    ax[0].set_ylabel("roof displacement [mm]")
+    ax[1].set_ylabel("story-1 damper force [kN]")
+    ax[1].set_xlabel("time [s]")
+    for a in ax:
+        a.grid(alpha=0.3)
+    ax[0].legend(fontsize=8, ncol=3)
+    fig.suptitle(title)
+    return save(fig, path)

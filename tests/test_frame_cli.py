@@ -1,0 +1,75 @@
+"""`fvd-bridge frame`: calibrated dampers of a series in the 3-story frame, end to end."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import CLI, cli_env
+
+
+@pytest.fixture(scope="module")
+def series(tmp_path_factory):
+    """Calibration files of a 2-device series (laws 1 and 2) in calibrate's layout, and a short
+    synthetic ground motion (2-column text: t [s], a [g])."""
+    from fvd_bridge import calibrate
+    from fvd_bridge.rig import Device, Noise, paper, simulate
+
+    root = tmp_path_factory.mktemp("series")
+    for k, C in enumerate((44.0, 48.0)):
+        rec = simulate(Device(C=C, alpha=0.3, name=f"dev{k}"), paper(cycles=3), Noise(force=1.0, displacement=0.005),
+                       seed=k)
+        for spec in ("1", "2"):
+            calibrate(rec, spec, seed=k, pop=8, gens=40).save(str(root / "cal" / "params" / rec.name / f"law{spec}.yaml"))
+    t = np.arange(0.0, 4.0, 0.01)
+    a = 0.3 * np.sin(2 * np.pi * 1.0 * t) * np.sin(np.pi * t / 4.0)
+    (root / "quake.txt").write_text("# a 1 Hz pulse train [g]\n" + "\n".join(f"{x:.3f} {y:.6f}" for x, y in zip(t, a)))
+    return root
+
+
+def frame(*args):
+    return subprocess.run([*CLI, "frame", *args], capture_output=True, text=True, env=cli_env(), timeout=900)
+
+
+def test_frame_compares_laws_and_the_series(series, tmp_path):
+    out = tmp_path / "fr"
+    res = frame(str(series / "cal"), "--record", str(series / "quake.txt"), "--out", str(out), "--quiet",
+                "--stroke-limit", "1.0")
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert "verdict:" in res.stdout and "production series" in res.stdout
+    rows = list(csv.DictReader(open(out / "frame_table.csv")))
+    assert sorted(r["model"] for r in rows) == ["", "1", "1", "2", "2"]
+    bare = next(r for r in rows if r["model"] == "")
+    damped = [r for r in rows if r["model"]]
+    # dampers take energy out: every damped case drifts less than the bare frame
+    assert all(float(r["drift [%]"]) < float(bare["drift [%]"]) for r in damped)
+    assert all(float(r["energy [kJ]"]) > 0 for r in damped)
+    # the 1 mm stroke limit is exceeded and said so
+    assert all("exceeds 1 mm" in r["exceeded"] for r in damped)
+    spread = list(csv.DictReader(open(out / "frame_series.csv")))
+    drift = [r for r in spread if r["quantity"] == "drift"]
+    assert {r["model"] for r in drift} == {"1", "2"} and all(int(r["devices"]) == 2 for r in drift)
+    assert all(float(r["min"]) <= float(r["mean"]) <= float(r["max"]) for r in drift)
+    summary = json.load(open(out / "frame_summary.json"))
+    assert summary["verdict"].startswith("best-fitting model")
+    for name in ("drift_profiles.png", "damper_hysteresis.png", "histories.png"):
+        assert (out / "figures" / name).is_file()
+    # each damper's deformation history replays on the rig
+    hist = sorted((out / "histories").glob("dev0_law2_story1.csv"))
+    assert hist
+    rig = subprocess.run([*CLI, "rig", "--out", str(tmp_path / "replay"), "--protocol", f"history:{hist[0]}"],
+                         capture_output=True, text=True, env=cli_env())
+    assert rig.returncode == 0, rig.stderr
+
+
+def test_frame_bad_input_gets_one_line(series, tmp_path):
+    bad = tmp_path / "bad.txt"
+    bad.write_text("0.00 0.1\n0.01 abc\n")
+    res = frame(str(series / "cal"), "--record", str(bad), "--out", str(tmp_path / "x"))
+    assert res.returncode == 2 and "bad.txt" in res.stderr and "line 2" in res.stderr
+    assert "Traceback" not in res.stderr and not (tmp_path / "x").exists()
+    res = frame(str(tmp_path / "nothing"), "--record", str(series / "quake.txt"))
+    assert res.returncode == 2 and "no such file or folder" in res.stderr
