@@ -65,13 +65,14 @@ def _check(cal, record, args) -> int:
     """OpenSees against the model on the record's motion; 1 when off its bound.
 
     Both are driven by one consistent motion: the displacement integrated from
-    the record's velocity (trapezoidal rule from d[0]), so that displacement
-    noise, which the derived velocity has smoothed away, reaches neither."""
+    the record's velocity (trapezoidal rule, from 0 where OpenSees materials
+    start), so that displacement noise, which the derived velocity has
+    smoothed away, reaches neither."""
     import numpy as np
 
     from ..export.opensees_check import check
 
-    d = record.d[0] + np.concatenate([[0.0], np.cumsum(0.5 * (record.v[1:] + record.v[:-1]) * np.diff(record.t))])
+    d = np.concatenate([[0.0], np.cumsum(0.5 * (record.v[1:] + record.v[:-1]) * np.diff(record.t))])
     res = check(cal.model, cal.named(), record.t, d, record.v, record.a)
     verdict = "within" if res.ok else "OUTSIDE"
     print(f"check on {record.name}: OF(OpenSees vs model) = {res.of:.3g}, {verdict} the bound {res.bound:.3g} "

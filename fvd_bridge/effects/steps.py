@@ -319,6 +319,72 @@ def hermite_travel(s, h, v0, v1, a0, a1):
                 + (-0.5 * s4 + s3) * v1 + (0.25 * s4 - s3 / 3.0) * h * a1)
 
 
+@njit(cache=True)
+def series_rest(x0):
+    """State of ``series_sample`` at rest: the spring unstretched, the law at
+    rest at the body's displacement x0 [mm]; (w, u, z, W0, pw, x_o, q, dq)."""
+    return (0.0, 0.0, 0.0, 0.0, 0.0, x0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def series_sample(code, p, a, ks, r, theta, Ff, state, y0, y1, v0, v1, a0, a1, dt, substeps):
+    """One sample step dt [s] of ``series_population`` for one member (law
+    ``code``, parameters p, solver exponent a = ``law_exponent``, Ks [kN/mm],
+    r [-], theta [1/MJ], Ff [kN]), cut in ``substeps`` TR-BDF2 steps.
+
+    y, v, a at the two samples: the body's displacement [mm], velocity
+    [mm/s] and acceleration [mm/s^2].  state = (w, u, z, W0, pw, x_o, q, dq):
+    the spring's stretch [mm], the law's velocity [mm/s], its state z, W0
+    [MJ], the law's power A law u [kN mm/s], its displacement [mm], and the
+    solver's unknown q and its last change (``series_rest``).  Returns the
+    state at the sample, F = Ks w [kN] and F_o [kN] of its last step."""
+    w, u, z, W0, pw, xl, q, dq = state
+    h = dt / substeps
+    g = TRBDF2_GAMMA  # trapezoidal rule to t + g h, then BDF2 (L-stable)
+    c_g = 1.0 / (g * (2.0 - g))
+    c_0 = (1.0 - g) ** 2 / (g * (2.0 - g))
+    c_h = (1.0 - g) / (2.0 - g) * h
+    fo = 0.0
+    jump = (v0 == 0.0) != (v1 == 0.0)
+    for j in range(substeps):
+        f0, f1 = j / substeps, (j + 1) / substeps
+        fg = f0 + g * (f1 - f0)
+        if jump:
+            ya = y0 + (y1 - y0) * f0
+            tr_g = (y1 - y0) * (fg - f0)
+            tr_h = (y1 - y0) * (f1 - f0)
+        else:
+            base = hermite_travel(f0, dt, v0, v1, a0, a1)
+            ya = y0 + base if j > 0 else y0
+            tr_g = hermite_travel(fg, dt, v0, v1, a0, a1) - base
+            tr_h = hermite_travel(f1, dt, v0, v1, a0, a1) - base
+        yg = ya + tr_g
+        yb = y0 + (y1 - y0) * f1 if (jump or j == substeps - 1) else ya + tr_h
+        hf = heat_factor(theta, W0 + h * pw * J_TO_MJ) if theta != 0.0 else 1.0
+        # TR stage to t + g h
+        wb = w + tr_g - 0.5 * g * h * u
+        hz = 0.5 * g * h  # law 7's trapezoidal stage: z + hz q phi(z) = z - hz q phi(z0) + travel
+        zb = z - hz * law7_rate(z, p) if code == 7 else 0.0
+        ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, zb, hz, ks, r, hf, Ff)
+        pwg = fog * ug / hf
+        # BDF2 stage to t + h
+        wb = c_g * wg - c_0 * w + tr_h - c_g * tr_g
+        qg = powsign(ug, a) if a != 1.0 else ug
+        # law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1)
+        zb = c_g * zg - c_0 * z - c_0 * (yg - wg - xl) if code == 7 else 0.0
+        u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg, zb, c_h, ks, r,
+                                     hf, Ff)
+        pw1 = fo * u1 / hf
+        W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
+        pw = pw1
+        xl = yb - w1
+        u, w, z = u1, w1, z1
+        q1 = powsign(u, a) if a != 1.0 else u
+        dq = q1 - q  # linear extrapolation of the next step's guess
+        q = q1
+    return (w, u, z, W0, pw, xl, q, dq), ks * w, fo
+
+
 @njit(parallel=True, cache=True)
 def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
     """A spring Ks [kN/mm] in series with the internal element (law ``code``
@@ -356,62 +422,14 @@ def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
     U = np.zeros((pop, n))
     FO = np.zeros((pop, n))
     rows = np.zeros(pop, np.int64) if x.shape[0] == 1 else np.arange(pop)
-    h = dt / substeps
-    g = TRBDF2_GAMMA  # trapezoidal rule to t + g h, then BDF2 (L-stable)
-    c_g = 1.0 / (g * (2.0 - g))
-    c_0 = (1.0 - g) ** 2 / (g * (2.0 - g))
-    c_h = (1.0 - g) / (2.0 - g) * h
     for i in prange(pop):
         ri = rows[i]
         p = P[i]
-        ks = Ks[i]
         a = law_exponent(code, p)
-        w, u, z, W0, pw = 0.0, 0.0, 0.0, 0.0, 0.0
-        xl = x[ri, 0]  # law displacement
-        q, dq = 0.0, 0.0
+        state = series_rest(x[ri, 0])
         for k in range(1, n):
-            v0, v1 = xv[ri, k - 1], xv[ri, k]
-            a0, a1 = xa[ri, k - 1], xa[ri, k]
-            y0, y1 = x[ri, k - 1], x[ri, k]
-            jump = (v0 == 0.0) != (v1 == 0.0)
-            for j in range(substeps):
-                f0, f1 = j / substeps, (j + 1) / substeps
-                fg = f0 + g * (f1 - f0)
-                if jump:
-                    ya = y0 + (y1 - y0) * f0
-                    tr_g = (y1 - y0) * (fg - f0)
-                    tr_h = (y1 - y0) * (f1 - f0)
-                else:
-                    base = hermite_travel(f0, dt, v0, v1, a0, a1)
-                    ya = y0 + base if j > 0 else y0
-                    tr_g = hermite_travel(fg, dt, v0, v1, a0, a1) - base
-                    tr_h = hermite_travel(f1, dt, v0, v1, a0, a1) - base
-                yg = ya + tr_g
-                yb = y0 + (y1 - y0) * f1 if (jump or j == substeps - 1) else ya + tr_h
-                hf = heat_factor(theta[i], W0 + h * pw * J_TO_MJ) if theta[i] != 0.0 else 1.0
-                # TR stage to t + g h
-                wb = w + tr_g - 0.5 * g * h * u
-                hz = 0.5 * g * h  # law 7's trapezoidal stage: z + hz q phi(z) = z - hz q phi(z0) + travel
-                zb = z - hz * law7_rate(z, p) if code == 7 else 0.0
-                ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, zb, hz,
-                                              ks, r[i], hf, Ff[i])
-                pwg = fog * ug / hf
-                # BDF2 stage to t + h
-                wb = c_g * wg - c_0 * w + tr_h - c_g * tr_g
-                qg = powsign(ug, a) if a != 1.0 else ug
-                # law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1)
-                zb = c_g * zg - c_0 * z - c_0 * (yg - wg - xl) if code == 7 else 0.0
-                u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg,
-                                             zb, c_h, ks, r[i], hf, Ff[i])
-                pw1 = fo * u1 / hf
-                W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
-                pw = pw1
-                xl = yb - w1
-                u, w, z = u1, w1, z1
-                q1 = powsign(u, a) if a != 1.0 else u
-                dq = q1 - q  # linear extrapolation of the next step's guess
-                q = q1
-                FO[i, k] = fo
-            F[i, k] = ks * w
-            U[i, k] = u
+            state, F[i, k], FO[i, k] = series_sample(code, p, a, Ks[i], r[i], theta[i], Ff[i], state,
+                                                     x[ri, k - 1], x[ri, k], xv[ri, k - 1], xv[ri, k],
+                                                     xa[ri, k - 1], xa[ri, k], dt, substeps)
+            U[i, k] = state[1]
     return F, U, FO

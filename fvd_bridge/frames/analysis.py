@@ -63,15 +63,20 @@ DAMPER_TAGS_FROM = 1000
 #: material tag of the series brace (frame side)
 BRACE_MATERIAL = 999
 #: (algorithm, convergence test) tried in turn at each step, as arguments of the
-#: OpenSees ``algorithm`` and ``test`` commands (tolerances in mm and kN)
+#: OpenSees ``algorithm`` and ``test`` commands.  The test is on the force
+#: residual [kN, kN mm]: near zero damper velocity the tangent is huge, and a
+#: displacement-increment test would pass with the damper force still wrong.
 ALGORITHMS = (
-    (("KrylovNewton",), ("NormDispIncr", 1e-5, 20)),
-    (("NewtonLineSearch", "-type", "Bisection"), ("NormUnbalance", 1e-3, 30)),
-    (("ModifiedNewton", "-initial"), ("NormDispIncr", 1e-5, 50)),
-    (("Newton",), ("NormDispIncr", 1e-5, 30)),
+    (("KrylovNewton",), ("NormUnbalance", 1e-2, 20)),
+    (("NewtonLineSearch", "-type", "Bisection"), ("NormUnbalance", 1e-2, 30)),
+    (("ModifiedNewton", "-initial"), ("NormUnbalance", 1e-2, 50)),
 )
 #: a step none of the algorithms completes is halved, at most this many times
-MAX_HALVINGS = 5
+MAX_HALVINGS = 4
+#: at the smallest sub-step, when all ALGORITHMS fail: a test on the displacement
+#: increment [mm] only, which a stuck damper (its force set by round-off-level
+#: velocities) can pass; such steps are counted in SolverReport.relaxed_steps
+LAST_RESORT = (("KrylovNewton",), ("NormDispIncr", 1e-6, 50))
 
 INTEGRATOR = ("Newmark", 0.5, 0.25)
 _GEOM = 1                       # geometric transformation tag
@@ -100,13 +105,16 @@ class SolverReport:
 
     algorithm_steps  (sub)steps completed by each algorithm, by its arguments
     split_steps      steps that needed sub-steps; smallest_step [s] the finest used
+    relaxed_steps    sub-steps accepted by LAST_RESORT (displacement test only)
     completed        False when a step failed even at the finest sub-step:
-                     the histories stop at failed_at [s] and ``message`` says so
+                     the histories stop at failed_at [s]
+    message          what went wrong, empty when nothing did
     """
 
     algorithm_steps: dict
     split_steps: int
     smallest_step: float
+    relaxed_steps: int
     completed: bool
     failed_at: float | None = None
     message: str = ""
@@ -213,7 +221,8 @@ class FrameResult:
             "peak_damper_stroke_mm": listed(self.peak_damper_stroke),
             "damper_energy_kNmm": listed(self.damper_energy), "total_damper_energy_kNmm": self.total_damper_energy,
             "solver": {"algorithm_steps": dict(self.solver.algorithm_steps), "split_steps": self.solver.split_steps,
-                       "smallest_step_s": self.solver.smallest_step, "completed": self.solver.completed,
+                       "smallest_step_s": self.solver.smallest_step, "relaxed_steps": self.solver.relaxed_steps,
+                       "completed": self.solver.completed,
                        "failed_at_s": self.solver.failed_at, "message": self.solver.message},
         }
 
@@ -384,24 +393,32 @@ def frame_periods(building: Building, n_modes: int | None = None) -> np.ndarray:
 
 
 class _Stepper:
-    """Advances the transient analysis one step, with the algorithm ladder and
-    recursive halving; counts what it used."""
+    """Advances the transient analysis one step: the ALGORITHMS in turn, then
+    halves (recursively), then LAST_RESORT at the smallest sub-step; counts
+    what it used."""
 
     def __init__(self):
-        self.counts = {" ".join(a): 0 for a, _ in ALGORITHMS}
-        self.split_steps, self.smallest = 0, np.inf
+        self.counts = {_name(a, t): 0 for a, t in ALGORITHMS + (LAST_RESORT,)}
+        self.split_steps, self.relaxed_steps, self.smallest = 0, 0, np.inf
+
+    def _solve(self, dt: float, algorithm: tuple, test: tuple) -> bool:
+        ops.test(*test)
+        ops.algorithm(*algorithm)
+        if ops.analyze(1, dt) != 0:
+            return False
+        self.counts[_name(algorithm, test)] += 1
+        self.smallest = min(self.smallest, dt)
+        return True
 
     def _try(self, dt: float, depth: int) -> bool:
-        for args, test in ALGORITHMS:
-            ops.test(*test)
-            ops.algorithm(*args)
-            if ops.analyze(1, dt) == 0:
-                self.counts[" ".join(args)] += 1
-                self.smallest = min(self.smallest, dt)
-                return True
-        if depth >= MAX_HALVINGS:
-            return False
-        return self._try(0.5 * dt, depth + 1) and self._try(0.5 * dt, depth + 1)
+        if any(self._solve(dt, a, t) for a, t in ALGORITHMS):
+            return True
+        if depth < MAX_HALVINGS:
+            return self._try(0.5 * dt, depth + 1) and self._try(0.5 * dt, depth + 1)
+        if self._solve(dt, *LAST_RESORT):
+            self.relaxed_steps += 1
+            return True
+        return False
 
     def step(self, dt: float) -> bool:
         """True when the step of length dt [s] converged."""
@@ -410,6 +427,12 @@ class _Stepper:
         if sum(self.counts.values()) - before > 1:
             self.split_steps += 1
         return ok
+
+
+def _name(algorithm: tuple, test: tuple) -> str:
+    """'KrylovNewton' or, for LAST_RESORT, 'KrylovNewton (NormDispIncr only)'."""
+    name = " ".join(algorithm)
+    return f"{name} ({test[0]} only)" if (algorithm, test) == LAST_RESORT else name
 
 
 def _motion_arrays(motion) -> tuple[str, float, np.ndarray]:
@@ -478,11 +501,15 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
     ag = np.interp(t, np.arange(accel.size) * dt, accel, right=0.0)
     heights = np.asarray(building.story_heights[building.ground_level:])
     drift = np.diff(np.column_stack([np.zeros(len(t)), u]), axis=1) / heights
-    message = "" if failed_at is None else (
-        f"step to t = {failed_at:.4f} s failed with every algorithm down to dt/{2 ** MAX_HALVINGS}; "
-        f"histories stop at t = {t[-1]:.4f} s")
+    notes = []
+    if stepper.relaxed_steps:
+        notes.append(f"{stepper.relaxed_steps} sub-steps accepted on the displacement increment only "
+                     f"(force residual above {ALGORITHMS[0][1][1]} kN)")
+    if failed_at is not None:
+        notes.append(f"the step to t = {failed_at:.4f} s failed with every algorithm down to "
+                     f"dt/{2 ** MAX_HALVINGS}; the histories stop at t = {t[-1]:.4f} s")
     solver = SolverReport(dict(stepper.counts), stepper.split_steps, float(stepper.smallest),
-                          failed_at is None, failed_at, message)
+                          stepper.relaxed_steps, failed_at is None, failed_at, "; ".join(notes))
     has = bool(links)
     return FrameResult(building.name, name, t, u, drift, a_rel + ag[:, None], ag,
                        dmp_d if has else None, dmp_f if has else None, model.periods, model.rayleigh,
