@@ -21,6 +21,8 @@ FRICTION_V_F = steps.FRICTION_V_F
 #: series stiffness [kN/mm] at and above which the connection is rigid (the
 #: model without the spring; far above any real oil column, rod or frame)
 KS_RIGID = 1e6
+#: a row's Ks counts as rigid from here (the upper bound, to rounding)
+KS_RIGID_FROM = KS_RIGID * (1.0 - 1e-12)
 
 
 def _col(P, j):
@@ -100,13 +102,13 @@ def friction_force(P, t, x, xv, xa):
 def parallel_force(P, t, x, xv, xa):
     """Accumulator (gas spring) and preload: + Kp x + F0, Kp [kN/mm], F0 [kN],
     x [mm] the damper body's displacement (d without a gap)."""
-    return _col(P, 0) * np.asarray(x) + _col(P, 1)
+    return steps.parallel_springs(_col(P, 0), _col(P, 1), np.asarray(x))  # (steps.parallel_spring)
 
 
 def inertia_force(P, t, x, xv, xa):
     """Moving mass m [kg]: + m xa 1e-6 [kN], xa [mm/s^2] the damper body's
     acceleration (the record's a without a gap; 1 kg mm/s^2 = 1e-6 kN)."""
-    return _col(P, 0) * 1e-6 * np.asarray(xa)
+    return steps.inertia_terms(_col(P, 0), np.asarray(xa))  # (steps.inertia_term)
 
 
 def _stiff(s):

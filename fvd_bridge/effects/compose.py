@@ -81,13 +81,13 @@ def _rigid_rows(model, P):
     """Rows whose series stiffness is at least KS_RIGID (the upper end of its
     range): a rigid connection, computed without the spring (exactly the
     model without series_stiffness, so the models are nested)."""
-    from .catalog import KS_RIGID
+    from .catalog import KS_RIGID_FROM
 
     e = _series_effect(model)
     if e is None:
         return None
     _, PE = model.split(P)
-    return PE[e.name][:, 0] >= KS_RIGID * (1.0 - 1e-12)
+    return PE[e.name][:, 0] >= KS_RIGID_FROM
 
 
 def _split_rigid(model, record, P, rigid, substeps, parts):

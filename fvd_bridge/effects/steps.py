@@ -2,10 +2,11 @@
 
 Each equation is written once, as a scalar function of plain arithmetic that
 ports line by line to C (the FMU): the asymmetry factor, the friction term,
-the heat factor, the play step, the series spring's stage equation; the
-drivers run them for every parameter row in parallel (numba prange over the
-population), and ``catalog.py`` applies the stateless ones to whole arrays
-(numba ufuncs of the same functions).  Units: kN, mm, s.
+the heat factor and energy, the play's sample step, the series spring's
+stage equation and sample step; the drivers run them for every parameter
+row in parallel (numba prange over the population), ``catalog.py`` applies
+the stateless ones to whole arrays (numba ufuncs of the same functions) and
+``scalar.py`` composes them for one member, sample by sample.  Units: kN, mm, s.
 """
 
 from __future__ import annotations
@@ -48,8 +49,22 @@ def heat_factor(theta, W0):
     return 1.0 / (1.0 + theta * W0)
 
 
+@njit(cache=True)
+def parallel_spring(Kp, F0, x):
+    """Accumulator (gas spring) and preload: Kp x + F0 [kN], Kp [kN/mm], F0 [kN], x [mm]."""
+    return Kp * x + F0
+
+
+@njit(cache=True)
+def inertia_term(m, xa):
+    """Moving mass: m xa 1e-6 [kN], m [kg], xa [mm/s^2] (1 kg mm/s^2 = 1e-6 kN)."""
+    return m * 1e-6 * xa
+
+
 asymmetry_factors = vectorize(["float64(float64, float64)"], cache=True)(asymmetry_factor)
 friction_terms = vectorize(["float64(float64, float64)"], cache=True)(friction_term)
+parallel_springs = vectorize(["float64(float64, float64, float64)"], cache=True)(parallel_spring)
+inertia_terms = vectorize(["float64(float64, float64)"], cache=True)(inertia_term)
 
 
 # ----------------------------------------------------------------- gap (play)
@@ -64,6 +79,30 @@ def play_step(rel, u, half):
     if rel < -half:
         return -half
     return rel
+
+
+@njit(cache=True)
+def play_half(g):
+    """Half-width [mm] of the play for a clearance g [mm] (none for g < 0)."""
+    return 0.5 * max(g, 0.0)
+
+
+@njit(cache=True)
+def play_advance(rel, half, v0, v1, dt):
+    """rel [mm] after a sample step dt [s] with the pin's velocity linear from
+    v0 to v1 [mm/s]: its travel split where v changes sign, each part by
+    ``play_step``."""
+    u1, u2 = split_travel(v0, v1, dt)
+    return play_step(play_step(rel, u1, half), u2, half)
+
+
+@njit(cache=True)
+def play_motion(rel, half, d, v, acc):
+    """The damper body's motion at a sample (x [mm], xv [mm/s], xa [mm/s^2])
+    from the pin's d, v, acc and rel: x = d - rel; in contact (rel = +-half,
+    v pushing on that side) xv = v, xa = acc; in free play xv = xa = 0."""
+    contact = (v > 0.0 and rel >= half) or (v < 0.0 and rel <= -half)
+    return d - rel, (v if contact else 0.0), (acc if contact else 0.0)
 
 
 @njit(parallel=True, cache=True)
@@ -85,21 +124,23 @@ def play_population(d, v, acc, dt, g):
     rows = np.zeros(pop, np.int64) if d.shape[0] == 1 else np.arange(pop)
     for i in prange(pop):
         r = rows[i]
-        half = 0.5 * max(g[i], 0.0)
+        half = play_half(g[i])
         rel = 0.0
         for k in range(n):
             if k > 0:
-                u1, u2 = split_travel(v[r, k - 1], v[r, k], dt)
-                rel = play_step(play_step(rel, u1, half), u2, half)
-            x[i, k] = d[r, k] - rel
-            vk = v[r, k]
-            contact = (vk > 0.0 and rel >= half) or (vk < 0.0 and rel <= -half)
-            xv[i, k] = vk if contact else 0.0
-            xa[i, k] = acc[r, k] if contact else 0.0
+                rel = play_advance(rel, half, v[r, k - 1], v[r, k], dt)
+            x[i, k], xv[i, k], xa[i, k] = play_motion(rel, half, d[r, k], v[r, k], acc[r, k])
     return x, xv, xa
 
 
 # ----------------------------------------------------------- thermal softening
+@njit(cache=True)
+def heat_energy(W0, p0, p1, dt):
+    """W0 [MJ] after a sample step dt [s] in which the power F xv went from p0
+    to p1 [kN mm/s]: the trapezoidal rule, 1 kN mm = 1e-6 MJ."""
+    return W0 + 0.5 * dt * (p0 + p1) * J_TO_MJ
+
+
 @njit(parallel=True, cache=True)
 def thermal_population(F, xv, dt, theta):
     """Heating: F / (1 + theta W0(t)) for each row, W0 [MJ] = 1e-6 integral
@@ -119,7 +160,7 @@ def thermal_population(F, xv, dt, theta):
         p_prev = F[i, 0] * xv[r, 0]
         for k in range(1, n):
             p = F[i, k] * xv[r, k]
-            W += 0.5 * dt * (p_prev + p) * J_TO_MJ
+            W = heat_energy(W, p_prev, p, dt)
             out[i, k] = F[i, k] * heat_factor(theta[i], W)
             p_prev = p
     return out
@@ -413,7 +454,8 @@ def series_population(code, x, xv, xa, dt, Ks, P, r, theta, Ff, substeps):
     In a sample step where xv jumps to or from 0 (a gap's contact event) the
     travel is the body's position increment, spread linearly in time.  Each
     stage solves one scalar equation (series_step); hf from W0 at the start
-    of each step.  The spring starts unstretched and the law at rest.
+    of each step.  The spring starts unstretched and the law at rest
+    (series_rest); each member goes sample by sample (series_sample).
 
     Returns F [kN] (through the spring), u [mm/s] (the law's velocity) and
     F_o [kN] (the law force with asymmetry and heating), each (pop, n_t)."""
