@@ -6,3 +6,16 @@ class InputError(Exception):
 
     The CLI prints ``fvd-bridge: <message>`` and exits with code 2.
     """
+
+
+def positive(what: str, value) -> float:
+    """``value`` as a finite float > 0, else an InputError naming ``what``."""
+    import math
+
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} '{value}' is not a number") from None
+    if not (math.isfinite(x) and x > 0.0):
+        raise InputError(f"{what} = {value} must be a finite number > 0")
+    return x

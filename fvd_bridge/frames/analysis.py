@@ -67,16 +67,20 @@ BRACE_MATERIAL = 999
 #: residual [kN, kN mm]: near zero damper velocity the tangent is huge, and a
 #: displacement-increment test would pass with the damper force still wrong.
 ALGORITHMS = (
-    (("KrylovNewton",), ("NormUnbalance", 1e-2, 20)),
-    (("NewtonLineSearch", "-type", "Bisection"), ("NormUnbalance", 1e-2, 30)),
-    (("ModifiedNewton", "-initial"), ("NormUnbalance", 1e-2, 50)),
+    (("KrylovNewton",), ("NormUnbalance", 1e-2, 15)),
+    (("NewtonLineSearch", "-type", "Bisection"), ("NormUnbalance", 1e-2, 15)),
+    (("ModifiedNewton", "-initial"), ("NormUnbalance", 1e-2, 20)),
 )
 #: a step none of the algorithms completes is halved, at most this many times
-MAX_HALVINGS = 4
+MAX_HALVINGS = 3
 #: at the smallest sub-step, when all ALGORITHMS fail: a test on the displacement
 #: increment [mm] only, which a stuck damper (its force set by round-off-level
-#: velocities) can pass; such steps are counted in SolverReport.relaxed_steps
-LAST_RESORT = (("KrylovNewton",), ("NormDispIncr", 1e-6, 50))
+#: velocities) can pass; such sub-steps are counted in SolverReport.relaxed_steps
+LAST_RESORT = (("KrylovNewton",), ("NormDispIncr", 1e-5, 30))
+#: when LAST_RESORT fails too, the sub-step is accepted after this fixed number
+#: of iterations, unconverged (SolverReport.forced_steps); the run stops only if
+#: the response then stops being finite
+FORCED = (("KrylovNewton",), ("FixedNumIter", 20))
 
 INTEGRATOR = ("Newmark", 0.5, 0.25)
 _GEOM = 1                       # geometric transformation tag
@@ -106,8 +110,9 @@ class SolverReport:
     algorithm_steps  (sub)steps completed by each algorithm, by its arguments
     split_steps      steps that needed sub-steps; smallest_step [s] the finest used
     relaxed_steps    sub-steps accepted by LAST_RESORT (displacement test only)
-    completed        False when a step failed even at the finest sub-step:
-                     the histories stop at failed_at [s]
+    forced_steps     sub-steps accepted unconverged (FORCED)
+    completed        False when the response diverged (or no step could be
+                     taken): the histories stop at failed_at [s]
     message          what went wrong, empty when nothing did
     """
 
@@ -115,9 +120,15 @@ class SolverReport:
     split_steps: int
     smallest_step: float
     relaxed_steps: int
+    forced_steps: int
     completed: bool
     failed_at: float | None = None
     message: str = ""
+
+    @property
+    def converged(self) -> bool:
+        """Every (sub)step met its ALGORITHMS tolerance and the run completed."""
+        return self.completed and not self.relaxed_steps and not self.forced_steps
 
     @property
     def algorithms_used(self) -> list[str]:
@@ -222,6 +233,7 @@ class FrameResult:
             "damper_energy_kNmm": listed(self.damper_energy), "total_damper_energy_kNmm": self.total_damper_energy,
             "solver": {"algorithm_steps": dict(self.solver.algorithm_steps), "split_steps": self.solver.split_steps,
                        "smallest_step_s": self.solver.smallest_step, "relaxed_steps": self.solver.relaxed_steps,
+                       "forced_steps": self.solver.forced_steps,
                        "completed": self.solver.completed,
                        "failed_at_s": self.solver.failed_at, "message": self.solver.message},
         }
@@ -315,9 +327,9 @@ def _members(b: Building) -> None:
 
 
 def _eigen(b: Building, n_modes: int) -> np.ndarray:
-    """Eigen periods [s] of the first ``n_modes`` modes (ARPACK when fewer modes
-    than mass DOFs are asked, else the dense solver, which handles all)."""
-    if n_modes < b.stories:
+    """Eigen periods [s] of the first ``n_modes`` modes: ARPACK when the mass
+    DOFs outnumber twice the modes (it fails otherwise), else the dense solver."""
+    if 2 * n_modes < b.stories:
         lam = ops.eigen("-genBandArpack", n_modes)
     else:
         lam = ops.eigen("-fullGenLapack", n_modes)
@@ -398,8 +410,8 @@ class _Stepper:
     what it used."""
 
     def __init__(self):
-        self.counts = {_name(a, t): 0 for a, t in ALGORITHMS + (LAST_RESORT,)}
-        self.split_steps, self.relaxed_steps, self.smallest = 0, 0, np.inf
+        self.counts = {_name(a, t): 0 for a, t in ALGORITHMS + (LAST_RESORT, FORCED)}
+        self.split_steps, self.relaxed_steps, self.forced_steps, self.smallest = 0, 0, 0, np.inf
 
     def _solve(self, dt: float, algorithm: tuple, test: tuple) -> bool:
         ops.test(*test)
@@ -418,6 +430,9 @@ class _Stepper:
         if self._solve(dt, *LAST_RESORT):
             self.relaxed_steps += 1
             return True
+        if self._solve(dt, *FORCED):
+            self.forced_steps += 1
+            return True
         return False
 
     def step(self, dt: float) -> bool:
@@ -430,8 +445,11 @@ class _Stepper:
 
 
 def _name(algorithm: tuple, test: tuple) -> str:
-    """'KrylovNewton' or, for LAST_RESORT, 'KrylovNewton (NormDispIncr only)'."""
-    name = " ".join(algorithm)
+    """'KrylovNewton', or with LAST_RESORT 'KrylovNewton (NormDispIncr only)',
+    with FORCED 'KrylovNewton (unconverged)'."""
+    name = " ".join(map(str, algorithm))
+    if (algorithm, test) == FORCED:
+        return f"{name} (unconverged)"
     return f"{name} ({test[0]} only)" if (algorithm, test) == LAST_RESORT else name
 
 
@@ -483,6 +501,7 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
     dmp_d = np.zeros((n_steps + 1, len(links)))
     dmp_f = np.zeros_like(dmp_d)
     stepper, done, failed_at = _Stepper(), n_steps, None
+    height = building.elevations[-1]
     for k in range(1, n_steps + 1):
         if not stepper.step(h):
             done, failed_at = k - 1, float(t[k - 1] + h)
@@ -491,6 +510,9 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
         for i, node in enumerate(floors):
             u[k, i] = ops.nodeDisp(node, 1)
             a_rel[k, i] = ops.nodeAccel(node, 1)
+        if not np.all(np.abs(u[k]) < height):      # NaN or beyond the building's height: diverged
+            done, failed_at = k - 1, float(t[k])
+            break
         for i, link in enumerate(links):
             dmp_d[k, i] = ops.eleResponse(link, "basicDeformation")[0]
             dmp_f[k, i] = ops.eleResponse(link, "basicForce")[0]
@@ -505,11 +527,15 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
     if stepper.relaxed_steps:
         notes.append(f"{stepper.relaxed_steps} sub-steps accepted on the displacement increment only "
                      f"(force residual above {ALGORITHMS[0][1][1]} kN)")
+    if stepper.forced_steps:
+        notes.append(f"{stepper.forced_steps} sub-steps did not converge and were accepted after "
+                     f"{FORCED[1][1]} iterations")
     if failed_at is not None:
-        notes.append(f"the step to t = {failed_at:.4f} s failed with every algorithm down to "
-                     f"dt/{2 ** MAX_HALVINGS}; the histories stop at t = {t[-1]:.4f} s")
+        notes.append(f"the response diverged or a step failed at t = {failed_at:.4f} s; "
+                     f"the histories stop at t = {t[-1]:.4f} s")
     solver = SolverReport(dict(stepper.counts), stepper.split_steps, float(stepper.smallest),
-                          stepper.relaxed_steps, failed_at is None, failed_at, "; ".join(notes))
+                          stepper.relaxed_steps, stepper.forced_steps, failed_at is None, failed_at,
+                          "; ".join(notes))
     has = bool(links)
     return FrameResult(building.name, name, t, u, drift, a_rel + ag[:, None], ag,
                        dmp_d if has else None, dmp_f if has else None, model.periods, model.rayleigh,

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, positive
 from ..units import FACTORS
 
 #: standard gravity [mm/s^2] (3rd CGPM, 1901)
@@ -88,7 +88,7 @@ class GroundMotion:
     def scaled_to_pga(self, pga_g: float) -> "GroundMotion":
         """The record times the factor that makes its PGA ``pga_g`` [g]; the
         factor (times any earlier one) goes into source['scale_factor']."""
-        target = _positive(f"ground motion {self.name}: target PGA [g]", pga_g)
+        target = positive(f"ground motion {self.name}: target PGA [g]", pga_g)
         if self.pga_g == 0.0:
             raise InputError(f"ground motion {self.name}: all samples are zero; it cannot be scaled to a PGA")
         k = target / self.pga_g
@@ -98,20 +98,10 @@ class GroundMotion:
     def window(self, t_end: float) -> "GroundMotion":
         """The first ``t_end`` [s]: samples at t <= t_end (all of them if the
         record is shorter); the kept span goes into source['window_s']."""
-        t_end = _positive(f"ground motion {self.name}: window end [s]", t_end)
+        t_end = positive(f"ground motion {self.name}: window end [s]", t_end)
         n = min(self.accel.size, int(math.floor(t_end / self.dt + 1e-9)) + 1)
         src = dict(self.source, window_s=(0.0, (n - 1) * self.dt))
         return GroundMotion(self.name, self.dt, self.accel[:n], src)
-
-
-def _positive(what: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} '{value}' is not a number") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise InputError(f"{what} = {value} must be a finite number > 0")
-    return x
 
 
 def accel_factor(unit: str, where: str = "") -> float:
@@ -212,7 +202,7 @@ def _two_column(path: str, dt=None):
     if data.shape[1] == 1:
         if dt is None:
             raise InputError(f"{path}: 1 column; give the time step dt [s] or add a time column")
-        step = _positive(f"{path}: dt [s]", dt)
+        step = positive(f"{path}: dt [s]", dt)
         return step * np.arange(data.shape[0]), data[:, 0], nos, False
     t = data[:, 0]
     bad = np.flatnonzero(np.diff(t) <= 0.0)
@@ -239,7 +229,7 @@ def read_text(path, units: str = "g", dt=None) -> GroundMotion:
     dt/4 (times are often printed with few digits); t0 goes into source."""
     p = os.fspath(path)
     k = accel_factor(units, f"{p}: ")
-    dt = None if dt is None else _positive(f"{p}: dt [s]", dt)
+    dt = None if dt is None else positive(f"{p}: dt [s]", dt)
     t, a, nos, timed = _two_column(p, dt)
     if t.size < 2:
         raise InputError(f"{p}: line {nos[0]}: a single sample; a record needs at least 2")

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, positive
 
 #: the paper's identification test (section 3): 10 cycles of 40 mm at 0.5 m/s
 PAPER = {"amplitude": 40.0, "velocity": 500.0, "cycles": 10, "dt": 0.002}
@@ -31,16 +31,6 @@ PAPER = {"amplitude": 40.0, "velocity": 500.0, "cycles": 10, "dt": 0.002}
 ACCEPTANCE_LEVELS = (0.01, 0.25, 0.50, 0.75, 1.00)
 #: fewest samples per cycle a sinusoid must have
 MIN_SAMPLES_PER_CYCLE = 16
-
-
-def _positive(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"protocol {name} '{value}': not a number") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise InputError(f"protocol {name} = {value:g}: must be a finite number > 0")
-    return value
 
 
 @dataclass(frozen=True)
@@ -54,9 +44,9 @@ class SineSegment:
     taper: float = 0.5
 
     def __post_init__(self):
-        _positive("amplitude [mm]", self.amplitude)
-        _positive("frequency [Hz]", self.frequency)
-        _positive("cycles", self.cycles)
+        positive("protocol amplitude [mm]", self.amplitude)
+        positive("protocol frequency [Hz]", self.frequency)
+        positive("protocol cycles", self.cycles)
         if not (math.isfinite(self.taper) and self.taper >= 0.0):
             raise InputError(f"protocol taper = {self.taper:g}: must be >= 0 cycles")
 
@@ -141,7 +131,7 @@ class SineProtocol(Protocol):
         self.segments = tuple(segments)
         if not self.segments:
             raise InputError("protocol: no segments")
-        self.dt = _positive("dt [s]", dt)
+        self.dt = positive("protocol dt [s]", dt)
         if not (math.isfinite(rest) and rest >= 0.0):
             raise InputError(f"protocol rest = {rest:g}: must be >= 0 s")
         if not (math.isfinite(pause) and pause >= 0.0):
@@ -223,7 +213,7 @@ def paper(amplitude: float = PAPER["amplitude"], velocity: float = PAPER["veloci
           rest: float = 0.1) -> SineProtocol:
     """The paper's identification test: ``cycles`` cycles of ``amplitude`` [mm]
     at peak velocity ``velocity`` [mm/s] (f = v / (2 pi A), about 2 Hz), dt [s]."""
-    amplitude, velocity = _positive("amplitude [mm]", amplitude), _positive("velocity [mm/s]", velocity)
+    amplitude, velocity = positive("protocol amplitude [mm]", amplitude), positive("protocol velocity [mm/s]", velocity)
     seg = SineSegment(amplitude, velocity / (2.0 * math.pi * amplitude), cycles, taper)
     return SineProtocol([seg], dt, name="paper", rest=rest)
 
@@ -236,11 +226,11 @@ def acceptance(levels=ACCEPTANCE_LEVELS, vmax: float = 500.0, amplitude: float =
     with the level (which separates inertia from stiffness). A level whose
     period would exceed ``max_period`` [s] keeps that period and a smaller
     amplitude (the 1% level: 1.6 mm at 0.5 Hz by default)."""
-    vmax, amplitude = _positive("vmax [mm/s]", vmax), _positive("amplitude [mm]", amplitude)
-    max_period = _positive("max_period [s]", max_period)
+    vmax, amplitude = positive("protocol vmax [mm/s]", vmax), positive("protocol amplitude [mm]", amplitude)
+    max_period = positive("protocol max_period [s]", max_period)
     segs = []
     for lev in levels:
-        lev = _positive("velocity level", lev)
+        lev = positive("protocol velocity level", lev)
         vel = lev * vmax
         amp = min(amplitude, vel * max_period / (2.0 * math.pi))
         segs.append(SineSegment(amp, vel / (2.0 * math.pi * amp), cycles, taper))
