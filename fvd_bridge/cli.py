@@ -15,7 +15,7 @@ import warnings
 from . import __version__
 from .errors import InputError
 
-VERBS = ("laws", "inspect", "rig", "calibrate", "effects", "diagnose", "export", "frame", "demo")
+VERBS = ("laws", "inspect", "rig", "calibrate", "effects", "diagnose", "compare", "export", "frame", "demo")
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:

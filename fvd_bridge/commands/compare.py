@@ -1,0 +1,155 @@
+"""``fvd-bridge compare``: calibrated models on a record they were not fitted to."""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+
+import numpy as np
+
+from ..errors import InputError
+from .common import add_record_options, read_records
+
+#: a record whose peak force or stroke is this many times the calibration
+#: record's (or its inverse) is in other units (m for mm, N for kN: 1000x),
+#: not another test (a 1% velocity level moves 25x less than the paper's test)
+UNIT_MISMATCH = 100.0
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "compare", help="check calibrated models on another test record (or predict on a displacement history)",
+        description="Evaluate calibrated models (PARAMS.yaml: any law + effects) on a record they were not fitted "
+                    "to (another amplitude or frequency, or a damper's displacement history from `frame`): each "
+                    "model's OF (eq. 18), where it fails (as diagnose), overlaid loops and time histories; the "
+                    "table is best first. A t,d file without force predicts: each model's force on that motion.")
+    p.add_argument("files", nargs="+", metavar="PARAMS.yaml... RECORD",
+                   help="calibration files, then the record (CSV/.mat t,d,F; or a t,d history)")
+    p.add_argument("--window", metavar="T0,T1", help="use only T0 <= t <= T1 [s] of the record")
+    p.add_argument("--out", default=os.path.join("results", "compare"), metavar="DIR",
+                   help="folder for the figure and the JSON report (default results/compare)")
+    p.add_argument("--json", action="store_true",
+                   help='print {"record": PATH, "models": [{"file", "model", "of"}, ...]} best first')
+    p.add_argument("--no-figures", action="store_true", help="write no figure")
+    add_record_options(p)
+    p.set_defaults(func=run)
+
+
+def _window(text: str, record):
+    try:
+        t0, t1 = (float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError(f"--window '{text}': expected T0,T1 in s, e.g. 2,10") from None
+    keep = np.flatnonzero((record.t >= t0) & (record.t <= t1))
+    if not t0 < t1 or keep.size < 16:
+        raise InputError(f"--window '{text}': holds {keep.size} samples of {record.name} "
+                         f"({record.t[0]:g} to {record.t[-1]:g} s); need T0 < T1 and at least 16")
+    return record.slice(int(keep[0]), int(keep[-1]) + 1)
+
+
+def _read(path: str, args):
+    """The record, or a t,d history (force 0, prediction only): (record, has_force)."""
+    from ..records import Record
+    from ..rig.protocols import read_history
+
+    try:
+        return read_records([path], args)[0], True
+    except InputError as exc:
+        if "column 'F'" not in str(exc) and "'F'" not in str(exc):
+            raise
+    hist = read_history(path)
+    t = hist.t0 + np.arange(hist.n) * hist.dt
+    d, v, a = hist.motion(t)
+    return Record(t, d, np.zeros_like(t), v, a, name=os.path.splitext(os.path.basename(path))[0],
+                  provenance={"file": os.path.abspath(path), "kind": "displacement history"}), False
+
+
+def _check_units(cal, record, path: str) -> None:
+    """Refuse a record whose scale is far off the calibration record's (other units)."""
+    peaks = (cal.record or {}).get("peaks") or {}
+    mine = record.scales()
+    for key, what, unit in (("F", "peak force", "kN"), ("d", "stroke", "mm")):
+        ref, x = peaks.get(key), mine[key]
+        if not ref or not x or (key == "F" and not np.any(record.F)):
+            continue
+        ratio = x / ref
+        if ratio > UNIT_MISMATCH or ratio < 1.0 / UNIT_MISMATCH:
+            raise InputError(f"{path}: {what} {x:.4g} {unit} is {ratio:.3g}x that of {cal.path}'s calibration "
+                             f"record ({ref:.4g} {unit}): are the record's units right? give them with --units, "
+                             f"e.g. --units F=N,d=m")
+
+
+def run(args) -> int:
+    from ..calibration import Calibration
+    from ..diagnose.where import analyse, summary_lines
+    from ..fit import objective
+
+    if len(args.files) < 2:
+        raise InputError("compare needs at least one PARAMS.yaml and a RECORD")
+    *param_files, record_path = args.files
+    cals = [Calibration.load(f) for f in param_files]
+    record, has_force = _read(record_path, args)
+    for cal in cals:
+        _check_units(cal, record, record_path)
+    if args.window:
+        record = _window(args.window, record)
+    rows = []
+    for cal, path in zip(cals, param_files):
+        F = cal.force(record)
+        of = float(objective(record.F, F, record.t)) if has_force else float("nan")
+        rows.append({"file": path, "model": cal.spec, "device": (cal.record or {}).get("name"), "of": of,
+                     "of_calibration": cal.of, "F": F, "peak_force_kN": float(np.max(np.abs(F))),
+                     "where": analyse(record, F) if has_force else None})
+    rows.sort(key=lambda r: (r["of"] if has_force else 0.0, r["file"]))
+    report = {"record": record_path,
+              "models": [{"file": r["file"], "model": r["model"], "of": r["of"] if has_force else None,
+                          "of_calibration": r["of_calibration"], "device": r["device"],
+                          "peak_force_kN": r["peak_force_kN"]} for r in rows],
+              "prediction_only": not has_force}
+    files = _write(args, record, rows, report, has_force)
+    if args.json:
+        print(json.dumps({k: report[k] for k in ("record", "models")}, indent=1))
+        return 0
+    w = max(len(r["file"]) for r in rows) + 2
+    if has_force:
+        print(f"models on {record.name} ({record.n} samples; OF eq. 18; best first):")
+        print(f"  {'file':<{w}}{'model':<28}{'OF here':>10}{'OF calib.':>11}{'ratio':>8}")
+        for r in rows:
+            print(f"  {r['file']:<{w}}{r['model']:<28}{r['of']:>10.4g}{r['of_calibration']:>11.4g}"
+                  f"{r['of'] / r['of_calibration'] if r['of_calibration'] else float('nan'):>8.2f}")
+        best = rows[0]
+        print(f"\ngeneralises best: {best['model']} ({best['file']}), OF {best['of']:.4g}")
+        for r in rows:
+            print(f"\nwhere {r['model']} fails ({r['file']}):")
+            print("\n".join(f"  {line}" for line in summary_lines(r["where"])))
+    else:
+        print(f"prediction on the displacement history {record.name} ({record.n} samples, no measured force):")
+        ref = np.mean([r["peak_force_kN"] for r in rows])
+        for r in rows:
+            print(f"  {r['file']:<{w}}{r['model']:<28} peak force {r['peak_force_kN']:9.4g} kN "
+                  f"({100 * (r['peak_force_kN'] / ref - 1):+.1f}% from the mean)")
+    if files:
+        print(f"\nwrote {', '.join(files)}")
+    return 0
+
+
+def _safe(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_.+" else "_" for c in name)
+
+
+def _write(args, record, rows, report, has_force) -> list:
+    from ..io.staging import staged_dir, write_json
+
+    base = _safe(record.name)
+    written = [f"{base}_compare.json"]
+    with staged_dir(args.out) as stage:
+        full = dict(report, where={r["file"]: r["where"] for r in rows} if has_force else None)
+        write_json(os.path.join(stage, written[0]), full)
+        if not args.no_figures:
+            from ..plots.compare import compare_figure
+
+            compare_figure(record, [(f"{r['model']} ({os.path.basename(r['file'])})", r["F"]) for r in rows],
+                           has_force, os.path.join(stage, f"{base}_compare.png"))
+            written.append(f"{base}_compare.png")
+    return [os.path.join(args.out, f) for f in written]
