@@ -8,17 +8,23 @@ export MPLBACKEND := Agg
 
 .PHONY: demo test bench sysdeps clean
 
-# openseespy needs the Debian packages libblas3 and liblapack3.
+# openseespy needs the Debian packages libblas3 and liblapack3; the FMU
+# export compiles its binary with gcc and cmake.
 sysdeps:
-	@libs="$$( (ldconfig -p || /sbin/ldconfig -p) 2>/dev/null)"; \
-	if echo "$$libs" | grep -q 'libblas.so.3' && echo "$$libs" | grep -q 'liblapack.so.3'; then :; \
+	@libs="$$( (ldconfig -p || /sbin/ldconfig -p) 2>/dev/null)"; missing=""; \
+	echo "$$libs" | grep -q 'libblas.so.3' || missing="$$missing libblas3"; \
+	echo "$$libs" | grep -q 'liblapack.so.3' || missing="$$missing liblapack3"; \
+	command -v gcc >/dev/null || missing="$$missing gcc libc6-dev"; \
+	command -v cmake >/dev/null || missing="$$missing cmake"; \
+	command -v make >/dev/null || missing="$$missing make"; \
+	if [ -z "$$missing" ]; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
-	  echo "installing libblas3 liblapack3 (needed by openseespy)"; \
-	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null; \
+	  echo "installing$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
 	elif command -v sudo >/dev/null && sudo -n true 2>/dev/null && command -v apt-get >/dev/null; then \
-	  echo "installing libblas3 liblapack3 (needed by openseespy) with sudo"; \
-	  sudo -n apt-get update -qq && sudo -n env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libblas3 liblapack3 >/dev/null; \
-	else echo "fvd_bridge: openseespy needs BLAS/LAPACK; run: sudo apt-get install -y libblas3 liblapack3" >&2; exit 2; fi
+	  echo "installing$$missing with sudo"; \
+	  sudo -n apt-get update -qq && sudo -n env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
+	else echo "fvd_bridge: needs the Debian packages$$missing; run: sudo apt-get install -y$$missing" >&2; exit 2; fi
 
 $(STAMP): pyproject.toml
 	@$(MAKE) --no-print-directory sysdeps
