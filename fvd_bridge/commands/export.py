@@ -10,11 +10,13 @@ from .common import add_record_options, read_records
 
 
 def add_parser(sub):
-    p = sub.add_parser("export", help="export a calibrated damper: OpenSees material definition",
+    p = sub.add_parser("export", help="export a calibrated damper: OpenSees material, FMI 3 co-simulation FMU",
                        description="Turn a calibration file (params/<device>/law<SPEC>.yaml) into the tools "
                                    "engineers use. 'opensees': the damper's uniaxial material as an OpenSeesPy "
                                    "script (.py) or Tcl (.tcl), native materials where exact; --check drives one "
-                                   "OpenSees material with a record's displacement and compares the force.")
+                                   "OpenSees material with a record's displacement and compares the force. "
+                                   "'fmu': an FMI 3.0 co-simulation FMU (C sources included), built, validated "
+                                   "and checked against the Python model.")
     targets = p.add_subparsers(dest="target", metavar="TARGET", required=True)
     o = targets.add_parser("opensees", help="OpenSees uniaxial material (OpenSeesPy script or Tcl)",
                            description="Write the damper's OpenSees material definition; the language follows "
@@ -29,6 +31,21 @@ def add_parser(sub):
                         "fvd_bridge's model (eq. 18); exit 1 with a figure when it misses the documented bound")
     add_record_options(o)
     o.set_defaults(func=run_opensees)
+    f = targets.add_parser("fmu", help="FMI 3.0 co-simulation FMU of the calibrated damper",
+                           description="Build an FMI 3.0 co-simulation FMU (input d [mm], optional v, a; output F "
+                                       "[kN], z, E) with the calibrated parameters as start values, compile its "
+                                       "binary with the system C compiler (the C sources stay inside), run "
+                                       "fmpy's validation and simulate it on the calibration record (or --check "
+                                       "RECORD; the golden input when the record is not found): the export "
+                                       "fails (exit 1, with a figure) when the OF against the Python model "
+                                       "exceeds 0.002.")
+    f.add_argument("params", metavar="PARAMS.yaml", help="calibration file")
+    f.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU to write")
+    f.add_argument("--h-max", type=float, metavar="S",
+                   help="largest internal sub-step [s] (default: the calibration record's dt)")
+    f.add_argument("--check", metavar="RECORD", help="check on this record instead of the calibration record")
+    add_record_options(f)
+    f.set_defaults(func=run_fmu)
 
 
 def run_opensees(args) -> int:
@@ -86,3 +103,49 @@ def _check(cal, record, args) -> int:
                         f"(bound {res.bound:.3g})", f"{base}_check.png")
     print(f"the export misses its bound: see {path}", file=sys.stderr)
     return 1
+
+
+def _fmu_check_record(cal, args):
+    """The record the FMU is checked on: --check, the calibration record, or the golden input."""
+    from ..golden import golden_record, reference_input
+
+    path = args.check or (cal.record or {}).get("file")
+    if path and (args.check or os.path.isfile(path)):
+        return read_records([path], args)[0]
+    t, d, v, a = reference_input()
+    return golden_record({"t": t, "d": d, "v": v, "a": a})
+
+
+def run_fmu(args) -> int:
+    """Build, validate and check the FMU; nothing is left at -o when a step fails."""
+    from ..calibration import Calibration
+    from ..export.fmu import OF_BOUND, build_fmu, simulate, validate
+
+    if not args.output.lower().endswith(".fmu"):
+        raise InputError(f"-o {args.output}: the file name must end in .fmu")
+    if args.h_max is not None and not args.h_max > 0:
+        raise InputError(f"--h-max {args.h_max}: must be > 0 s")
+    cal = Calibration.load(args.params)
+    record = _fmu_check_record(cal, args)
+    tmp = f"{args.output}.partial-{os.getpid()}.fmu"
+    try:
+        build_fmu(cal, tmp, args.h_max)
+        of_mirror = validate(tmp, cal, record, inputs="dva")
+        of_d = validate(tmp, cal, record, inputs="d")
+        print(f"check on {record.name}: OF(FMU vs model) = {of_mirror:.3g} with the record's d, v, a "
+              f"(bound {OF_BOUND:g}); {of_d:.3g} with d alone (the FMU differentiates d)", file=sys.stderr)
+        if of_mirror > OF_BOUND:
+            from ..plots.export import check_figure
+
+            F_fmu = simulate(tmp, record, "dva")["F"]
+            base = os.path.splitext(args.output)[0]
+            path = check_figure(record, cal.force(record), F_fmu, f"FMU vs model {cal.spec}: OF {of_mirror:.3g}",
+                                f"{base}_check.png", label="FMU")
+            print(f"the FMU misses its bound: see {path}", file=sys.stderr)
+            return 1
+        os.replace(tmp, args.output)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    print(f"wrote {args.output}: model {cal.spec}, FMI 3.0 co-simulation, validated", file=sys.stderr)
+    return 0

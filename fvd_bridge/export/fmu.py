@@ -1,0 +1,357 @@
+"""FMI 3.0 co-simulation FMU of a calibrated damper: build and validate.
+
+``build_fmu(calibration, path)`` writes one FMU that holds the C sources of
+the repository's ``fmu/`` folder (one model for the nine laws and the seven
+built-in effects, chosen by structural parameters; model.c mirrors
+``laws/scalar.py`` and ``effects/scalar.py`` function for function) with the
+calibrated parameters as start values, compiled for this platform by FMPy's
+CMake project (``fmpy.build.build_platform_binary``; needs cmake and a C
+compiler).  ``validate(fmu, calibration, record)`` checks it with FMPy and
+returns the OF (paper eq. 18) of its force against the Python model's.
+
+Co-simulation convention (the FMU's inputs): before ``fmi3DoStep(t, h)`` the
+master sets the pin's displacement d [mm] at the END of the step, d(t + h);
+the FMU integrates over [t, t + h] in ceil(h / h_max) equal sub-steps and
+its outputs F [kN], z, E [kN mm] are the values at t + h.  The velocity and
+acceleration are derived from the samples of d (second-order backward
+differences, from rest), or taken from the inputs v [mm/s], a [mm/s^2]
+with the structural parameters use_velocity_input, use_acceleration_input.
+Variables: ``fmu/modelDescription.xml``; law parameters are named
+``law<N>.<name>`` (law2.C), effect parameters as in the calibration file
+(friction.Ff), effects switched by ``<effect>.enabled``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import uuid
+import xml.etree.ElementTree as ET
+import zipfile
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from ..errors import InputError
+
+#: the C sources, model description template and build description (the repository's fmu/ folder)
+FMU_SOURCES = Path(__file__).resolve().parents[2] / "fmu"
+SOURCE_FILES = ("config.h", "model.h", "model.c", "fmi3Functions.c")
+MODEL_IDENTIFIER = "fvd_damper"
+#: largest sub-step [s] when neither h_max nor the calibration record's dt is given
+DEFAULT_H_MAX = 1e-3
+#: OF (eq. 18) an FMU must reach against the Python model on a record, d as its only input
+OF_BOUND = 0.002
+#: the inputs ``validate`` and ``simulate`` can drive: 'd' alone, or with v (and a) from the record
+INPUTS = ("d", "dv", "dva")
+#: FMPy's CMake project links no library: without libm, pow() stays unresolved
+CMAKE_OPTIONS = {"CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm", "CMAKE_C_VISIBILITY_PRESET:STRING": "hidden"}
+
+
+def build_fmu(calibration, path, h_max: float | None = None) -> str:
+    """Write the calibrated damper as an FMI 3.0 co-simulation FMU at ``path``
+    (written atomically: nothing is left there on failure); returns the path.
+
+    ``h_max`` [s]: the largest integration sub-step (default: the
+    calibration record's dt, else DEFAULT_H_MAX).  A model with a plugin
+    effect cannot be exported (InputError)."""
+    values = start_values(calibration, _h_max(calibration, h_max))
+    path = os.path.abspath(os.fspath(path))
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    token = "{" + str(uuid.uuid4()) + "}"  # once: into the XML and the C define
+    with tempfile.TemporaryDirectory(prefix="fvd_fmu-") as work:
+        unzipdir = Path(work) / "fmu"
+        sources = unzipdir / "sources"
+        sources.mkdir(parents=True)
+        for name in SOURCE_FILES + ("buildDescription.xml",):
+            shutil.copy(_source(name), sources / name)
+        root = model_description(calibration, values, token)
+        ET.ElementTree(root).write(unzipdir / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
+        (sources / "calibration.h").write_text(calibration_header(root))
+        _compile(unzipdir, Path(work) / "build")
+        partial = f"{path}.partial-{os.getpid()}"
+        try:
+            with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
+                for file in sorted(p for p in unzipdir.rglob("*") if p.is_file()):
+                    zf.write(file, file.relative_to(unzipdir).as_posix())
+            os.replace(partial, path)
+        finally:
+            if os.path.exists(partial):
+                os.remove(partial)
+    return path
+
+
+def start_values(calibration, h_max: float) -> dict:
+    """{FMU variable name: start value} of a calibration: the law's number,
+    the effects' switches, the law's parameters as 'law<N>.<name>', the
+    effects' as in the model ('friction.Ff'), h_max [s]."""
+    from ..effects.catalog import EFFECTS
+    from ..effects.scalar import EFFECT_NAMES
+
+    model = calibration.model
+    for e in model.effects:
+        if EFFECTS.get(e.name) is not e:
+            raise InputError(f"model '{model.spec}': effect '{e.name}' ({e.source}) cannot go into the FMU, "
+                             f"which holds the built-in effects only ({', '.join(EFFECT_NAMES)})")
+    number = model.law.number
+    values = {"law": number, "h_max": h_max}
+    values.update({f"{name}.enabled": model.has(name) for name in EFFECT_NAMES})
+    for name, x in calibration.named().items():
+        key = name if "." in name else f"law{number}.{name}"
+        if not (math.isfinite(x) or (name == "series_stiffness.Ks" and x == math.inf)):
+            raise InputError(f"model '{model.spec}': parameter '{name}' = {x}: not a finite number")
+        values[key] = float(x)
+    return values
+
+
+def model_description(calibration, values: dict, token: str) -> ET.Element:
+    """The FMU's modelDescription.xml (fmu/modelDescription.xml with the start
+    values, the token, the description and an fvd_bridge annotation)."""
+    root = ET.parse(_source("modelDescription.xml")).getroot()
+    variables = {v.get("name"): v for v in root.find("ModelVariables")}
+    unknown = sorted(set(values) - set(variables))
+    if unknown:
+        raise InputError(f"model '{calibration.spec}': no FMU variable for {', '.join(unknown)}")
+    for name, x in values.items():
+        variables[name].set("start", _xml_value(x))
+    root.set("instantiationToken", token)
+    root.set("description", _description(calibration))
+    root.set("generationTool", f"fvd_bridge {__version__}")
+    root.set("generationDateAndTime", datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
+    root.find("DefaultExperiment").set("stepSize", _xml_value(values["h_max"]))
+    annotations = _annotation(calibration)
+    ET.indent(annotations, space="  ", level=1)
+    root[-1].tail, annotations.tail = "\n\n  ", "\n\n"
+    root.append(annotations)
+    return root
+
+
+def calibration_header(root: ET.Element) -> str:
+    """sources/calibration.h: the token and every start value of the model
+    description, by value reference, and the variables' names (messages)."""
+    float64, boolean, names = [], [], []
+    law = None
+    for v in root.find("ModelVariables"):
+        vr, start = int(v.get("valueReference")), v.get("start")
+        names.append(f'[{vr}] = "{v.get("name")}"')
+        if start is None:
+            continue
+        if v.tag == "Float64":
+            float64.append(f"[{vr}] = {_c_value(float(start))}")
+        elif v.tag == "Boolean":
+            boolean.append(f"[{vr}] = {start}")
+        elif v.get("name") == "law":
+            law = int(start)
+    lines = ["/* Written by fvd_bridge.export.fmu.build_fmu: the instantiation token and the start values of",
+             " * modelDescription.xml, by value reference.  Do not edit. */",
+             f'#define INSTANTIATION_TOKEN "{root.get("instantiationToken")}"',
+             f"#define START_LAW {law}",
+             _c_list("START_FLOAT64", float64), _c_list("START_BOOLEAN", boolean),
+             _c_list("VARIABLE_NAMES", names)]
+    return "\n".join(lines) + "\n"
+
+
+def validate(fmu_path, calibration, record, inputs: str = "d") -> float:
+    """OF (paper eq. 18) of the FMU's force against the Python model's
+    (``calibration.model.force`` at the FMU's sub-steps per sample) on the
+    record; the FMU driven by FMPy's ``simulate_fmu`` with the record's d
+    (``inputs`` 'd'), d and v ('dv') or d, v and a ('dva'), each sample sent
+    before the step that ends there.  A file FMPy finds problems in is an
+    InputError; the caller compares the OF with OF_BOUND."""
+    from fmpy import read_model_description
+    from fmpy.validation import validate_fmu
+
+    from ..fit.objective import objective
+
+    fmu_path = os.fspath(fmu_path)
+    problems = validate_fmu(fmu_path)
+    if problems:
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise InputError(f"{fmu_path}: not a valid FMU: {problems[0].strip()}{more}")
+    md = read_model_description(fmu_path)
+    h_max = float(next(v.start for v in md.modelVariables if v.name == "h_max"))
+    F_ref = calibration.model.force(record, calibration.params[None, :], substeps_of(record.dt, h_max))[0]
+    F_fmu = simulate(fmu_path, record, inputs)["F"]
+    return float(objective(F_ref, F_fmu, record.t))
+
+
+def simulate(fmu_path, record, inputs: str = "d", outputs=("F", "z", "E")) -> dict:
+    """Outputs {name: (n_t,)} of the FMU driven by the record with FMPy's
+    ``simulate_fmu`` (one communication step per sample, each sample of the
+    record sent before the step that ends there); ``inputs`` 'd', 'dv' or
+    'dva' sets use_velocity_input and use_acceleration_input (the FMU
+    ignores the inputs it does not use)."""
+    from fmpy import simulate_fmu
+
+    if inputs not in INPUTS:
+        raise InputError(f"inputs '{inputs}': expected one of {', '.join(INPUTS)}")
+    t = np.asarray(record.t, dtype=float)
+    result = simulate_fmu(os.fspath(fmu_path), start_time=t[0], stop_time=t[-1], step_size=record.dt,
+                          output_interval=record.dt,  # else FMPy may double the communication step
+                          input=end_of_step_input(record), output=list(outputs),
+                          start_values={"use_velocity_input": "v" in inputs, "use_acceleration_input": "a" in inputs})
+    if result.size != t.size or not np.allclose(result["time"], t, rtol=0.0, atol=1e-9 * max(1.0, abs(t[-1]))):
+        raise RuntimeError(f"{fmu_path}: FMPy returned {result.size} samples for the record's {t.size}")
+    return {name: np.asarray(result[name], dtype=float) for name in outputs}
+
+
+def end_of_step_input(record, names=("d", "v", "a")) -> np.ndarray:
+    """FMPy input signal that sets, before each step [t_k, t_k+1], the record's
+    sample k+1 (the FMU's end-of-step convention): the record shifted one
+    sample earlier, plus an event at t_0 so that initialization still sees
+    sample 0 (FMPy applies the left value at t_0 during initialization and
+    the right one before the first step; a row before t_0 makes the event
+    visible to its interpolation)."""
+    t = np.asarray(record.t, dtype=float)
+    time = np.concatenate([[t[0] - record.dt, t[0]], t[:-1]])
+    signal = np.zeros(time.size, dtype=[("time", float)] + [(n, float) for n in names])
+    signal["time"] = time
+    for n in names:
+        x = np.asarray(getattr(record, n), dtype=float)
+        signal[n] = np.concatenate([[x[0]], x])
+    return signal
+
+
+def substeps_of(h: float, h_max: float) -> int:
+    """Sub-steps of a step h [s]: ceil(h / h_max), a step within 1e-9 above a
+    multiple of h_max counting as that multiple (model.c's substeps_of)."""
+    return max(1, math.ceil(h / h_max * (1.0 - 1e-9)))
+
+
+# --------------------------------------------------------------------------- helpers
+
+def _source(name: str) -> Path:
+    path = FMU_SOURCES / name
+    if not path.is_file():
+        raise InputError(f"{path}: the FMU's C sources are missing (they live in the repository's fmu/ folder)")
+    return path
+
+
+def _h_max(calibration, h_max) -> float:
+    if h_max is None:
+        h_max = (calibration.record or {}).get("dt") or DEFAULT_H_MAX
+    try:
+        h = float(h_max)
+    except (TypeError, ValueError):
+        raise InputError(f"h_max {h_max!r}: not a number of seconds") from None
+    if not (math.isfinite(h) and h > 0.0):
+        raise InputError(f"h_max {h_max!r}: must be a positive time step in s")
+    return h
+
+
+def _device(calibration) -> str:
+    name = (calibration.record or {}).get("name")
+    if name:
+        return str(name)
+    return Path(calibration.path).parent.name if calibration.path else "damper"
+
+
+def _description(calibration) -> str:
+    model, law = calibration.model, calibration.model.law
+    rec = calibration.record or {}
+    effects = "; ".join(f"{e.name}: {e.equation}" for e in model.effects) or "no effects"
+    source = f" on record {rec.get('name')}" + (f" ({rec.get('file')})" if rec.get("file") else "") if rec else ""
+    return (f"{_device(calibration)}: fluid-viscous damper model {model.spec} calibrated by fvd_bridge "
+            f"(OF {calibration.of:.4g}{source}); law {law.number} {law.name}: {law.equation}; {effects}. "
+            "Set d(t + h) [mm], the pin's displacement at the END of the step, before fmi3DoStep(t, h); "
+            "units kN, mm, s.")
+
+
+def _annotation(calibration) -> ET.Element:
+    """<Annotations><Annotation type="fvd_bridge.calibration">: model, law, effects, OF, record, parameters."""
+    model, law = calibration.model, calibration.model.law
+    annotations = ET.Element("Annotations")
+    ann = ET.SubElement(annotations, "Annotation", type="fvd_bridge.calibration")
+    cal = ET.SubElement(ann, "Calibration", model=model.spec, device=_device(calibration),
+                        of=repr(float(calibration.of)), fvd_bridge_version=__version__)
+    if calibration.path:
+        cal.set("file", os.path.basename(calibration.path))
+    ET.SubElement(cal, "Law", number=str(law.number), name=law.name, equation=law.equation, source=law.source)
+    for e in model.effects:
+        ET.SubElement(cal, "Effect", name=e.name, equation=e.equation)
+    for name, unit, x in zip(model.names, model.units, calibration.params):
+        ET.SubElement(cal, "Parameter", name=name, unit=unit, value=repr(float(x)))
+    rec = calibration.record or {}
+    if rec:
+        r = ET.SubElement(cal, "Record", {k: str(rec[k]) for k in ("name", "file", "format", "samples", "dt")
+                                           if rec.get(k) is not None})
+        for key, value in (rec.get("peaks") or {}).items():
+            ET.SubElement(r, "Peak", quantity=str(key), value=repr(float(value)))
+    return annotations
+
+
+def _xml_value(x) -> str:
+    if isinstance(x, bool):
+        return "true" if x else "false"
+    if isinstance(x, int):
+        return str(x)
+    return "INF" if x == math.inf else repr(float(x))
+
+
+def _c_value(x: float) -> str:
+    return "INFINITY" if x == math.inf else repr(x)
+
+
+def _c_list(name: str, items: list) -> str:
+    return f"#define {name} {{ \\\n    " + ", \\\n    ".join(items) + " }"
+
+
+def _compile(unzipdir: Path, build_dir: Path) -> None:
+    """The platform binary by FMPy's CMake project, quietly (its log shown on failure)."""
+    from fmpy.build import build_platform_binary
+
+    if shutil.which("cmake") is None:
+        raise InputError("building an FMU needs cmake and a C compiler (Debian: apt-get install cmake gcc)")
+    build_dir.mkdir()
+    log = build_dir.parent / "build.log"
+    try:
+        with _output_to(log):
+            build_platform_binary(unzipdir.resolve(), build_dir, cmake_options=dict(CMAKE_OPTIONS))
+    except subprocess.CalledProcessError as exc:
+        tail = "\n".join(log.read_text(errors="replace").splitlines()[-20:])
+        raise RuntimeError(f"compiling the FMU failed ({exc}):\n{tail}") from None
+    binary = unzipdir / "binaries" / _platform_tuple() / (MODEL_IDENTIFIER + _library_suffix())
+    if not binary.is_file():
+        raise RuntimeError(f"compiling the FMU produced no {binary.relative_to(unzipdir)}")
+
+
+def _platform_tuple() -> str:
+    import fmpy
+
+    return fmpy.platform_tuple
+
+
+def _library_suffix() -> str:
+    import fmpy
+
+    return fmpy.sharedLibraryExtension
+
+
+@contextlib.contextmanager
+def _output_to(path: Path):
+    """Send this process's stdout and stderr (file descriptors 1, 2: cmake's
+    and the compiler's output) to ``path`` inside the block."""
+    import sys
+
+    for stream in (sys.stdout, sys.stderr):
+        stream.flush()
+    saved = [os.dup(1), os.dup(2)]
+    try:
+        with open(path, "wb") as fh:
+            os.dup2(fh.fileno(), 1)
+            os.dup2(fh.fileno(), 2)
+            yield
+    finally:
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in saved:
+            os.close(fd)
