@@ -80,7 +80,7 @@ def _exceeded(case: Case) -> list:
         if limit and np.isfinite(v[key]) and v[key] > limit:
             unit = "mm" if key == "stroke" else "kN"
             out.append(f"peak damper {what} {v[key]:.4g} {unit} exceeds {limit:.4g} {unit}")
-    if case.result is not None and not case.result.solver.completed:
+    if case.result is not None and case.result.solver.message:  # a stop, relaxed steps, negative energy
         out.append(case.result.solver.message)
     return out
 
