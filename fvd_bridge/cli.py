@@ -15,7 +15,8 @@ import warnings
 from . import __version__
 from .errors import InputError
 
-VERBS = ("laws", "inspect", "rig", "calibrate", "effects", "diagnose", "compare", "export", "frame", "demo")
+VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",
+         "demo")
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:

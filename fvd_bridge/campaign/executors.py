@@ -3,7 +3,8 @@
 An executor has ``run(fn, items) -> iterator of (item, result)`` in completion
 order, calling ``fn(*item)`` for each item; the campaign (runner.py) knows
 nothing else about it.  ``Serial`` runs in this process, ``Processes`` on a
-local process pool; a Dask or a resumable executor plugs in the same way.
+local process pool, ``Dask`` on a dask.distributed cluster (a LocalCluster
+or a scheduler's address); ``resume.Resumable`` wraps any of them.
 """
 
 from __future__ import annotations
@@ -46,3 +47,69 @@ class Processes:
             futures = {pool.submit(fn, *item): item for item in items}
             for fut in as_completed(futures):
                 yield futures[fut], fut.result()
+
+
+def _one_thread(fn, *args):
+    """Call ``fn(*args)`` with numba kernels on one thread (a Dask worker thread
+    is one of many on the machine, like a Processes worker)."""
+    import numba
+
+    numba.set_num_threads(1)
+    return fn(*args)
+
+
+class Dask:
+    """Run on a dask.distributed cluster: the scheduler at ``scheduler``
+    ('tcp://host:8786'), or a LocalCluster of ``workers`` (0: one per core)
+    single-threaded workers, process workers unless ``processes`` is False.
+
+    Every worker needs fvd_bridge (same version) and any plugin file at the
+    same path.  Each distinct record is sent to the cluster once; numba
+    kernels run on one thread per task.  Results arrive in completion order.
+    """
+
+    def __init__(self, scheduler: str | None = None, workers: int = 0, processes: bool = True):
+        self.scheduler, self.processes = scheduler, processes
+        self.workers = workers or os.cpu_count() or 1
+
+    def client(self):
+        """A connected distributed.Client (and the LocalCluster it owns, if any)."""
+        import logging
+
+        from distributed import Client, LocalCluster
+
+        from ..errors import InputError
+
+        if self.scheduler:
+            try:
+                return Client(self.scheduler, timeout="30s")
+            except (OSError, TimeoutError) as exc:
+                raise InputError(f"--scheduler {self.scheduler}: cannot connect ({exc})") from None
+        cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=self.processes,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+        return Client(cluster)
+
+    def run(self, fn, items):
+        from distributed import as_completed
+
+        items = list(items)
+        if not items:
+            return
+        client = self.client()
+        try:
+            shared = {}  # id(object) -> future of the object sent once (records, settings)
+            futures = {}
+            for item in items:
+                args = []
+                for x in item[1:]:
+                    if id(x) not in shared:
+                        shared[id(x)] = client.scatter(x, hash=False)
+                    args.append(shared[id(x)])
+                futures[client.submit(_one_thread, fn, item[0], *args, pure=False)] = item
+            for fut in as_completed(futures):
+                yield futures.pop(fut), fut.result()
+        finally:
+            cluster = getattr(client, "cluster", None)
+            client.close()
+            if cluster is not None and not self.scheduler:
+                cluster.close()

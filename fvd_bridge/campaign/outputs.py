@@ -4,7 +4,9 @@ DIR/params/<device>/law<SPEC>.yaml  one calibrated parameter set per (device, mo
                                     what the exporters read (best run's parameters;
                                     fvd_bridge.calibration owns its schema)
 DIR/table_A7.csv    mean and sigma over runs of OF and every parameter (Table A.7)
-DIR/robustness.csv  Delta_mn, Delta_n per parameter and beta per model (eqs. 19-23)
+DIR/robustness.csv  Delta_mn, Delta_n per parameter and beta per model (eqs. 19-23);
+                    a parameter whose mean over devices is near zero (stats.near_zero)
+                    has empty deltas and the note "near-zero mean: not in beta"
 DIR/pareto.csv      mean OF vs beta per model, non-dominated flag (Fig. 14)
 DIR/summary.json    settings, devices, per-model summary, every run, warnings
 DIR/figures/*.png   loops, OF bars, parameter dispersion, Pareto front
@@ -43,10 +45,14 @@ def summarize(records, results: dict, cs) -> dict:
         P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)
         OF = np.array([[r.of for r in runs] for runs in per_dev])          # (dev, run)
         p_mean, p_sigma = P.mean(axis=1), P.std(axis=1)
-        delta = stats.deltas(p_mean)
-        delta_n, beta = stats.robustness(p_mean)
+        ranges = np.mean([runs[0].bounds for runs in per_dev], axis=0)      # (par, 2), over devices
+        near_zero = stats.near_zero(p_mean, ranges, per_dev[0][0].log)
+        delta = stats.deltas(p_mean, near_zero)
+        delta_n, beta = stats.robustness(p_mean, near_zero)
         models[spec] = {
-            "names": names, "units": units,
+            "names": names, "units": units, "near_zero": near_zero,
+            "notes": [_near_zero_note(n, u, p_mean[:, j].mean(), ranges[j])
+                      for j, (n, u) in enumerate(zip(names, units)) if near_zero[j]],
             "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
             "p_mean": p_mean, "p_sigma": p_sigma, "delta": delta, "delta_n": delta_n, "beta": beta,
             "of_overall": float(OF.mean()),
@@ -58,6 +64,13 @@ def summarize(records, results: dict, cs) -> dict:
     for s, nd in zip(specs, front):
         models[s]["non_dominated"] = bool(nd)
     return {"devices": devices, "models": models}
+
+
+def _near_zero_note(name, unit, mean, rng) -> str:
+    """The one-line report of a parameter kept out of beta (stats.near_zero)."""
+    unit = "" if unit == "-" else f" {unit}"
+    return (f"{name}: mean over devices {mean:.4g}{unit} is near zero (|mean| < {stats.NEAR_ZERO:.0%} of its "
+            f"search range [{rng[0]:.4g}, {rng[1]:.4g}]): no relative scatter, kept out of beta")
 
 
 def _num(x):
@@ -75,8 +88,12 @@ def calibration(rec, dev_index: int, spec, summary_model, cs) -> Calibration:
                                 [w["message"] for w in summary_model["warnings"][rec.name]], runs)
 
 
-def write_outputs(out: str, records, results: dict, cs, figures: bool = True) -> dict:
-    """Write every output into ``out`` (all or nothing); returns the summary."""
+def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None) -> dict:
+    """Write every output into ``out`` (all or nothing); returns the summary.
+
+    ``extra(stage, summary)``, when given, writes further files into the same
+    staging directory (e.g. the production statistics of ``fvd-bridge campaign``).
+    """
     summary = summarize(records, results, cs)
     with staged_dir(out) as stage:
         for k, rec in enumerate(records):
@@ -87,6 +104,8 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True) ->
         write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
         if figures:
             _figures(stage, records, summary, cs)
+        if extra is not None:
+            extra(stage, summary)
     return summary
 
 
@@ -101,12 +120,13 @@ def _tables(stage, summary, cs):
             for name, (value, unit) in cs.model(spec).derived(m["p_mean"][k]).items():
                 rows.append([spec, dev, name, unit, value, float("nan")])
         for j, n in enumerate(m["names"]):
+            note = "near-zero mean: not in beta" if m["near_zero"][j] else ""
             for k, dev in enumerate(devices):
-                rob.append([spec, n, dev, _num(m["delta"][k][j]), _num(m["delta_n"][j]), _num(m["beta"])])
+                rob.append([spec, n, dev, _num(m["delta"][k][j]), _num(m["delta_n"][j]), _num(m["beta"]), note])
         par.append([spec, m["of_overall"], _num(m["beta"]), int(m["non_dominated"])])
     write_csv_rows(os.path.join(stage, "table_A7.csv"), ["model", "device", "quantity", "unit", "mean", "sigma"], rows)
     write_csv_rows(os.path.join(stage, "robustness.csv"),
-                   ["model", "parameter", "device", "delta_mn", "Delta_n", "beta"], rob)
+                   ["model", "parameter", "device", "delta_mn", "Delta_n", "beta", "note"], rob)
     write_csv_rows(os.path.join(stage, "pareto.csv"), ["model", "of_mean", "beta", "non_dominated"], par)
 
 
@@ -118,7 +138,7 @@ def _summary_json(records, results, summary, cs) -> dict:
         "devices": [{"name": r.name, "file": r.provenance.get("file"), "samples": r.n, "dt": r.dt,
                      "peak_force_kN": float(np.max(np.abs(r.F)))} for r in records],
         "models": {spec: {"of_mean": m["of_overall"], "beta": _num(m["beta"]),
-                          "non_dominated": m["non_dominated"],
+                          "non_dominated": m["non_dominated"], "notes": m["notes"],
                           "warnings": {d: m["warnings"][d] for d in summary["devices"]}}
                    for spec, m in summary["models"].items()},
         "runs": [{"device": dev, "model": spec, "run": i, "of": r.of,

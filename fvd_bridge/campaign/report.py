@@ -36,9 +36,42 @@ def format_report(summary: dict) -> str:
                      f"{'non-dominated' if m['non_dominated'] else ''}")
     front = [s for s, m in models.items() if m["non_dominated"]]
     lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
+    notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
+    if notes:
+        lines += ["", "Robustness notes:"]
+        lines += [f"  law {spec}, {note}" for spec, note in notes]
     warn = [(spec, dev, w["message"]) for spec, m in models.items()
             for dev, ws in m["warnings"].items() for w in ws]
     if warn:
         lines += ["", "Warnings:"]
         lines += [f"  law {spec}, {dev}: {msg}" for spec, dev, msg in warn]
+    return "\n".join(lines)
+
+
+def format_series(summary: dict, shown: int = 3) -> str:
+    """The report of a large series: per model mean OF, beta, Pareto flag and the
+    warnings counted by kind (the first few devices named); every value is in the files."""
+    models = summary["models"]
+    w_model = _width([f"law {s}" for s in models], 5) + GAP
+    lines = ["", f"{len(summary['devices'])} devices", "",
+             f"{'model':<{w_model}}{'mean OF':>10}{'beta':>10}  Pareto"]
+    for spec, m in models.items():
+        lines.append(f"{'law ' + spec:<{w_model}}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
+                     f"{'non-dominated' if m['non_dominated'] else ''}")
+    front = [s for s, m in models.items() if m["non_dominated"]]
+    lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
+    notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
+    if notes:
+        lines += ["", "Robustness notes:"] + [f"  law {spec}, {note}" for spec, note in notes]
+    counts = []
+    for spec, m in models.items():
+        by_code: dict = {}
+        for dev, ws in m["warnings"].items():
+            for w in ws:
+                by_code.setdefault(w["code"], []).append(dev)
+        for code, devs in by_code.items():
+            named = ", ".join(dict.fromkeys(devs[:shown]))
+            counts.append(f"  law {spec}: {code} on {len(set(devs))} device(s) ({named}{', ...' if len(devs) > shown else ''})")
+    if counts:
+        lines += ["", "Warnings (messages in summary.json and the parameter files):"] + counts
     return "\n".join(lines)

@@ -29,3 +29,14 @@ def read_options(args) -> ReadOptions:
 def read_records(paths, args):
     opts = read_options(args)
     return [read_record(p, opts) for p in paths]
+
+
+def quiet_opensees() -> None:
+    """Send OpenSees' console output (banners, per-step convergence warnings)
+    to nowhere for the rest of this process: the analyses report their own
+    solver trouble (FrameResult.solver, the export check's OF)."""
+    import os
+
+    import openseespy.opensees as ops
+
+    ops.logFile(os.devnull, "-noEcho")

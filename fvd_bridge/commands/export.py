@@ -88,7 +88,9 @@ def _check(cal, record, args) -> int:
     import numpy as np
 
     from ..export.opensees_check import check
+    from .common import quiet_opensees
 
+    quiet_opensees()
     d = np.concatenate([[0.0], np.cumsum(0.5 * (record.v[1:] + record.v[:-1]) * np.diff(record.t))])
     res = check(cal.model, cal.named(), record.t, d, record.v, record.a)
     verdict = "within" if res.ok else "OUTSIDE"

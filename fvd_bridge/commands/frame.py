@@ -87,7 +87,10 @@ def run(args) -> int:
     from ..frames.compare import run_cases, series_spread, verdict
     from ..frames.outputs import format_frame_table, write_frame_outputs
 
+    from .common import quiet_opensees
+
     cals, building, motion = load_inputs(args)
+    quiet_opensees()
 
     def progress(msg):
         if not args.quiet:

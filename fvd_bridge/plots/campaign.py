@@ -1,5 +1,7 @@
 """Campaign figures: loops (paper Fig. 3, App. B), OF bars (Fig. 4),
-parameter dispersion (Figs. 5-13), Pareto front (Fig. 14)."""
+parameter dispersion (Figs. 5-13), Pareto front (Fig. 14); for a production
+series: histograms of the calibrated quantities with their outlier fences,
+and the acceptance chart (force at the design velocity against the band)."""
 
 from __future__ import annotations
 
@@ -85,4 +87,63 @@ def pareto(specs, of_mean, beta, front, path: str) -> str:
     ax.set_ylabel("mean OF [-] (lower = more accurate)")
     ax.grid(alpha=0.3)
     ax.legend()
+    return save(fig, path)
+
+
+def histograms(spec: str, names, units, values: np.ndarray, columns, k: float, path: str) -> str:
+    """One histogram per quantity over the series' devices (values (n_dev, n_q)),
+    the median (solid) and the outlier fences median -+ k 1.4826 MAD (dashed);
+    outlying devices drawn as red ticks under the axis."""
+    n = len(names)
+    ncol = min(n, 4)
+    nrow = -(-n // ncol)
+    fig, ax = plt.subplots(nrow, ncol, figsize=(3.6 * ncol, 3.0 * nrow), squeeze=False)
+    for j, (name, unit, c) in enumerate(zip(names, units, columns)):
+        a = ax[j // ncol, j % ncol]
+        x = values[:, j]
+        x = x[np.isfinite(x)]
+        if x.size:
+            a.hist(x, bins=max(5, min(40, int(np.sqrt(x.size)) + 3)), color="tab:blue", alpha=0.75)
+            a.axvline(c["median"], color="k", lw=1)
+            if c["judged"] and c["robust_sigma"] > 0:
+                for s in (-1, 1):
+                    a.axvline(c["median"] + s * k * c["robust_sigma"], color="tab:red", ls="--", lw=0.8)
+            out = values[c["flags"], j]
+            out = out[np.isfinite(out)]
+            if out.size:
+                a.plot(out, np.zeros_like(out), "|", color="tab:red", ms=14, mew=2, clip_on=False)
+        a.set_title(f"{name} [{unit}] ({int(c['flags'].sum())} outliers)", fontsize=9)
+        a.grid(alpha=0.3)
+        if j % ncol == 0:
+            a.set_ylabel("devices")
+    for j in range(n, nrow * ncol):
+        ax[j // ncol, j % ncol].axis("off")
+    fig.suptitle(f"law {spec}: calibrated quantities over {values.shape[0]} devices "
+                 f"(median, fences at {k:g} x 1.4826 MAD)")
+    fig.tight_layout()
+    return save(fig, path)
+
+
+def acceptance(accept: dict, path: str) -> str:
+    """Per model: each device's force at the design velocity (tension, compression)
+    against the nominal force and its tolerance band; failures in red."""
+    models = accept["models"]
+    F0, tol = accept["nominal_force"], accept["settings"]["tolerance"]
+    fig, ax = plt.subplots(len(models), 1, figsize=(9, 2.8 * len(models) + 0.6), squeeze=False, sharex=True)
+    for a, (spec, m) in zip(ax[:, 0], models.items()):
+        idx = np.arange(len(m["passed"]))
+        a.axhspan(F0 * (1 - tol), F0 * (1 + tol), color="tab:green", alpha=0.12, label=f"nominal +-{tol:.0%}")
+        a.axhline(F0, color="tab:green", lw=0.8)
+        for col, marker, color, lab in ((0, "^", "tab:blue", "tension"), (1, "v", "tab:orange", "compression")):
+            ok = m["passed"]
+            a.scatter(idx[ok], m["F"][ok, col], marker=marker, s=14, color=color, label=f"{lab}, pass")
+            if not ok.all():
+                a.scatter(idx[~ok], m["F"][~ok, col], marker=marker, s=22, color="tab:red", label=f"{lab}, fail")
+        a.set_ylabel("force [kN]")
+        a.set_title(f"law {spec}: {int(m['passed'].sum())}/{len(idx)} pass", fontsize=9)
+        a.grid(alpha=0.3)
+    ax[0, 0].legend(fontsize=7, ncol=3, loc="lower right")
+    ax[-1, 0].set_xlabel("device (series order)")
+    fig.suptitle(f"force at the design velocity {accept['settings']['velocity']:g} mm/s")
+    fig.tight_layout()
     return save(fig, path)
