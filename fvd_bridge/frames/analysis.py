@@ -83,6 +83,11 @@ INTEGRATOR = ("Newmark", 0.5, 0.25)
 #: OpenSees ``algorithm`` and ``test`` commands; the test is on the force
 #: residual norm [kN at translations, kN mm at rotations]
 ALGORITHMS = (
+    # plain Newton with room to converge first: at the velocity reversals of a
+    # power-law dashpot (alpha < 1) the fallbacks below change the response
+    # (the FMU co-simulation of examples/opensees_fmu_cosim.py agrees with
+    # this to OF 2e-6, with KrylovNewton first only to 0.04)
+    (("Newton",), ("NormUnbalance", 1e-2, 50)),
     (("KrylovNewton",), ("NormUnbalance", 1e-2, 15)),
     (("NewtonLineSearch", "-type", "Bisection"), ("NormUnbalance", 1e-2, 15)),
     (("ModifiedNewton", "-initial"), ("NormUnbalance", 1e-2, 20)),

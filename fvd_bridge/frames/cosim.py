@@ -1,0 +1,514 @@
+"""Co-simulation of a frame with the damper FMU: OpenSees carries the frame,
+one instance of the FMI 3.0 co-simulation FMU of ``fvd_bridge.export.fmu``
+per story carries the damper (kN, mm, s).
+
+The frame is ``analysis.build_frame`` without dampers (same members, masses,
+Rayleigh damping, ground motion and Newmark average-acceleration analysis as
+``run_frame``); each story's damper becomes a pair of equal and opposite
+nodal loads along its diagonal (lower-left joint to upper-right joint of
+``building.damper_bay``, unit vector e): +F e at the lower joint, -F e at the
+upper one (tension F > 0 pulls them together).  The loads sit in one Plain
+pattern with a Constant series; their values change between solves through
+OpenSees parameters (``parameter ... loadPattern P loadAtNode N dof`` +
+``updateParameter``), so the domain does not change.  The damper's
+deformation and rate are the joints' relative displacement and velocity
+along e, d = e . (u_top - u_bottom) [mm], v = e . (v_top - v_bottom) [mm/s]:
+the twoNodeLink's axial deformation under small displacements.
+
+Each communication step [t, t + h] follows the FMU's convention: d(t + h)
+(and v(t + h), ``use_velocity_input``) are set before fmi3DoStep(t, h) and F
+is the force at t + h.  Newmark puts the loads of t + h into the equilibrium
+at t + h, so the frame needs F(t + h) before the FMU can give it:
+
+- ``explicit``: the frame is loaded with the forces of the previous
+  communication point, F(t), then each FMU steps with the frame's d(t + h),
+  v(t + h).  One OpenSees solve and one FMU step per damper; no rollback;
+  the force lags one step (first order in h).  The lag makes a damper whose
+  force rises steeply with the velocity unstable: a power-law dashpot
+  (alpha < 1: tangent alpha C |v|^(alpha - 1), unbounded at rest) chatters
+  at low velocity, its force flipping sign every step (law 2, C 45,
+  alpha 0.3, h = 5 ms in the 3-story frame: +-140 kN); a Maxwell damper
+  (law 7, tangent at most K) does not.
+- ``iterative``: per step, the OpenSees state (``NodeCheckpoint``) and every
+  FMU's state (fmi3GetFMUState) are saved; the frame is solved with the
+  forces F0 of the previous point, giving d0, v0; the damper forces that
+  agree with the frame are then found on the FMU side, where a step costs
+  microseconds: the frame's response to other forces is d0 + S_d (F - F0),
+  v0 + S_v (F - F0), with S_d, S_v its step flexibility at the dampers [mm/kN,
+  mm/s/kN] (probed once with unit loads; exact for a frame that stays
+  linear), and F = Phi(F), Phi_i the force of FMU i rolled back and stepped
+  with its story's d and v, is solved by Newton's method (``solve_damper_forces``),
+  falling back to nonlinear Gauss-Seidel over the stories, each a bracketed
+  scalar root (Brent): with a damper force that grows with its deformation
+  and rate, Phi_i falls as F_i grows, so the root lies between F_i and
+  Phi_i(F_i).  Then OpenSees is rolled back and solved again with these
+  forces; the step is accepted when the frame's damper deformations match
+  those the FMUs were stepped with (``tol_d``), otherwise the frame's new
+  response becomes the reference and the FMU side solves again (at most
+  ``max_iterations`` OpenSees solves; a linear frame needs 2).  Damper
+  forces converge to ``tol_F`` in the inner solve; at a velocity reversal of
+  a power-law dashpot the force is not resolvable to better than
+  C |dv|^alpha for round-off dv, hence the test on deformation.
+
+Rollback of OpenSees.  openseespy 3.7.1 has no command that undoes a
+committed step (``revertToLastCommit`` is not exposed; ``analyze`` always
+commits).  Two ways work for frames with elastic members
+(``building.with_(yielding=False)``), bit for bit:
+``NodeCheckpoint`` (every node's committed displacement, velocity and
+acceleration written back with ``setNodeDisp/Vel/Accel ... -commit``, the
+time with ``setTime``, then ``domainChange`` so that the Newmark integrator
+reloads them; microseconds per node; each set command starts from the
+node's committed vector, so every value is committed on its own), and
+``database File`` + ``save`` / ``restore`` + ``domainChange`` (about 3 ms per
+save, files on disk).  Neither restores yielding members: the node
+checkpoint leaves the elements' committed plastic state at the rejected
+trial, and ``restore`` of a ``forceBeamColumn`` (any beam integration)
+crashes the process with a segmentation fault (``dispBeamColumn``
+restores).  So ``iterative`` needs elastic members; the
+explicit scheme runs any frame.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import openseespy.opensees as ops
+
+from ..errors import InputError
+from .analysis import (FrameResult, _motion_arrays, _node, _report, _Stepper, _transient, build_frame,
+                       loop_energy)
+
+SCHEMES = ("explicit", "iterative")
+#: tags of the damper load pattern and its Constant series (the frame's excitation uses 1)
+LOAD_PATTERN = 2
+#: first OpenSees parameter tag of the damper loads
+PARAMETER_TAGS_FROM = 1
+#: unit load [kN] of the flexibility probes
+PROBE_FORCE = 100.0
+
+
+# ------------------------------------------------------------------ the FMU
+
+class DamperFMU:
+    """One instance of the damper FMU, driven with FMPy's low-level FMI 3 API
+    (``fmpy.fmi3.FMU3Slave``): d [mm] and, with ``use_velocity``, v [mm/s]
+    set before each fmi3DoStep(t, h) are the values at t + h; F [kN] is read
+    after it.  ``unzipdir``: an already extracted FMU (several instances share
+    one); otherwise the FMU is extracted to a temporary folder, removed by
+    ``close``."""
+
+    def __init__(self, path, name: str = "damper", use_velocity: bool = True, unzipdir=None):
+        from fmpy import extract, read_model_description
+        from fmpy.fmi3 import FMU3Slave, fmi3LogMessageCallback
+
+        md = read_model_description(str(path))
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        self._tmp = None
+        if unzipdir is None:
+            self._tmp = tempfile.TemporaryDirectory(prefix="fvd_cosim-")
+            unzipdir = extract(str(path), self._tmp.name)
+        self.name, self.use_velocity, self.messages = name, use_velocity, []
+        self._inputs = [vr["d"], vr["v"]] if use_velocity else [vr["d"]]
+        self._force, self._outputs = [vr["F"]], [vr["F"], vr["z"], vr["E"]]
+        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir,
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        self._log = fmi3LogMessageCallback(self._message)  # kept: the FMU calls it back
+        self.fmu.instantiate(logMessage=self._log)
+        self.fmu.setBoolean([vr["use_velocity_input"]], [use_velocity])
+        self.steps = 0
+
+    def _message(self, env, status, category, message):
+        self.messages.append(message.decode(errors="replace"))
+
+    def initialize(self, t0: float = 0.0, d0: float = 0.0, v0: float = 0.0) -> None:
+        """Initialization at t0 [s] with the pin at d0 [mm], v0 [mm/s]."""
+        self.fmu.enterInitializationMode(startTime=t0)
+        self.fmu.setFloat64(self._inputs, [d0, v0][:len(self._inputs)])
+        self.fmu.exitInitializationMode()
+
+    def step(self, t: float, h: float, d: float, v: float = 0.0, rollback: bool = False) -> float:
+        """One communication step [t, t + h] with d(t + h) [mm], v(t + h)
+        [mm/s]; returns F(t + h) [kN].  ``rollback``: the master may set an
+        earlier state afterwards (noSetFMUStatePriorToCurrentPoint false)."""
+        self.fmu.setFloat64(self._inputs, [d, v][:len(self._inputs)])
+        try:
+            self.fmu.doStep(t, h, noSetFMUStatePriorToCurrentPoint=not rollback)
+        except Exception as e:  # FMPy's FMICallException: the FMU's own words are in its log
+            said = "; ".join(self.messages[-3:]) or str(e)
+            raise RuntimeError(f"{self.name}: fmi3DoStep(t = {t:g} s, h = {h:g} s) failed: {said}") from e
+        self.steps += 1
+        return self.fmu.getFloat64(self._force)[0]
+
+    def outputs(self) -> tuple[float, float, float]:
+        """(F [kN], z, E [kN mm]) at the current communication point."""
+        return tuple(self.fmu.getFloat64(self._outputs))
+
+    def save(self):
+        """The FMU state (fmi3GetFMUState); give it back with ``free``."""
+        return self.fmu.getFMUState()
+
+    def restore(self, state) -> None:
+        self.fmu.setFMUState(state)
+
+    def free(self, state) -> None:
+        self.fmu.freeFMUState(state)
+
+    def close(self) -> None:
+        """fmi3Terminate, fmi3FreeInstance, and the temporary folder."""
+        try:
+            self.fmu.terminate()
+            self.fmu.freeInstance()
+        finally:
+            if self._tmp is not None:
+                self._tmp.cleanup()
+
+
+def damper_fmus(path, n: int, use_velocity: bool = True, workdir=None) -> list[DamperFMU]:
+    """``n`` initialized instances of one FMU, extracted once into ``workdir``
+    (a folder that must outlive them)."""
+    from fmpy import extract
+
+    unzipdir = extract(str(path), str(workdir)) if workdir is not None else None
+    fmus = [DamperFMU(path, f"damper{i + 1}", use_velocity, unzipdir) for i in range(n)]
+    for f in fmus:
+        f.initialize()
+    return fmus
+
+
+# ------------------------------------------------------- OpenSees rollback
+
+class NodeCheckpoint:
+    """The committed state of every node (displacement, velocity,
+    acceleration) and the time; ``restore`` writes them back as committed
+    values and calls ``domainChange`` so that the integrator reloads them.
+    Exact for models whose elements keep no state of their own (elastic
+    members, links with elastic materials); see the module docstring."""
+
+    def __init__(self):
+        self.nodes = tuple(ops.getNodeTags())
+        self.time, self.state = 0.0, ()
+
+    def save(self) -> None:
+        self.time = ops.getTime()
+        self.state = tuple((n, ops.nodeDisp(n), ops.nodeVel(n), ops.nodeAccel(n)) for n in self.nodes)
+
+    def restore(self) -> None:
+        # each set command starts from the node's committed vector and changes
+        # one dof of the trial one: commit after every value
+        for n, disp, vel, accel in self.state:
+            for dof, (u, v, a) in enumerate(zip(disp, vel, accel), start=1):
+                ops.setNodeDisp(n, dof, u, "-commit")
+                ops.setNodeVel(n, dof, v, "-commit")
+                ops.setNodeAccel(n, dof, a, "-commit")
+        ops.setTime(self.time)
+        ops.domainChange()
+
+
+# --------------------------------------------------------------- the frame
+
+class FrameDampers:
+    """The damper forces of a frame built by ``build_frame`` as nodal loads,
+    and the damper deformations read from the nodes (see the module
+    docstring).  ``set_forces(F)`` [kN, one per story]; ``read()`` -> (d [mm],
+    v [mm/s])."""
+
+    def __init__(self, building):
+        b = building
+        self.pairs, self.axes = [], []
+        for story in range(b.ground_level, b.levels):
+            bottom, top = _node(story, b.damper_bay), _node(story + 1, b.damper_bay + 1)
+            (x0, z0), (x1, z1) = ops.nodeCoord(bottom), ops.nodeCoord(top)
+            length = math.hypot(x1 - x0, z1 - z0)
+            self.pairs.append((bottom, top))
+            self.axes.append(((x1 - x0) / length, (z1 - z0) / length))
+        nodes = sorted({n for pair in self.pairs for n in pair})
+        self.n = len(self.pairs)
+        # B: nodal load components (node, dof 1 or 2) per unit damper force
+        rows = [(node, dof) for node in nodes for dof in (1, 2)]
+        self.B = np.zeros((len(rows), self.n))
+        for i, ((bottom, top), (ex, ez)) in enumerate(zip(self.pairs, self.axes)):
+            for node, sign in ((bottom, 1.0), (top, -1.0)):
+                self.B[rows.index((node, 1)), i] += sign * ex
+                self.B[rows.index((node, 2)), i] += sign * ez
+        ops.timeSeries("Constant", LOAD_PATTERN)
+        ops.pattern("Plain", LOAD_PATTERN, LOAD_PATTERN)
+        for node in nodes:
+            ops.load(node, 0.0, 0.0, 0.0)
+        self.parameters = []
+        for k, (node, dof) in enumerate(rows):
+            tag = PARAMETER_TAGS_FROM + k
+            ops.parameter(tag, "loadPattern", LOAD_PATTERN, "loadAtNode", node, dof)
+            self.parameters.append(tag)
+
+    def set_forces(self, F) -> None:
+        for tag, value in zip(self.parameters, self.B @ np.asarray(F, dtype=float)):
+            ops.updateParameter(tag, float(value))
+
+    def read(self) -> tuple[np.ndarray, np.ndarray]:
+        d, v = np.empty(self.n), np.empty(self.n)
+        for i, ((bottom, top), (ex, ez)) in enumerate(zip(self.pairs, self.axes)):
+            ub, ut = ops.nodeDisp(bottom), ops.nodeDisp(top)
+            vb, vt = ops.nodeVel(bottom), ops.nodeVel(top)
+            d[i] = ex * (ut[0] - ub[0]) + ez * (ut[1] - ub[1])
+            v[i] = ex * (vt[0] - vb[0]) + ez * (vt[1] - vb[1])
+        return d, v
+
+
+@dataclass(frozen=True)
+class CosimStats:
+    """How a co-simulation went.
+
+    scheme            'explicit' or 'iterative'
+    steps             communication steps (= OpenSees analysis steps)
+    opensees_solves   mean OpenSees solves per step (1 for explicit)
+    max_solves        most OpenSees solves in one step
+    fmu_steps         mean FMU steps per damper per step (1 for explicit)
+    unconverged       steps accepted after max_iterations solves without meeting tol_d
+    probe_solves      OpenSees solves spent probing the step flexibility (iterative)
+    wall_s            wall time [s] of the time stepping (the FMU build not included)
+    """
+
+    scheme: str
+    steps: int
+    opensees_solves: float
+    max_solves: int
+    fmu_steps: float
+    unconverged: int
+    probe_solves: int
+    wall_s: float
+
+
+def solve_damper_forces(fmus, states, t, h, d0, v0, F0, S_d, S_v, tol_F=1e-6, newton_iterations=6,
+                        max_sweeps=50):
+    """The damper forces F [kN] with F_i = Phi_i(F) (see the module
+    docstring): FMU i rolled back to states[i] and stepped over [t, t + h]
+    with d0 + S_d (F - F0), v0 + S_v (F - F0) of its story.
+
+    Newton first: the Jacobian of Phi is taken as a_i S_d[i, j] / S_d[i, i],
+    a_i = dPhi_i/dF_i by a finite difference of FMU i (exact when each
+    story's rate response is a fixed multiple of its deformation response,
+    as with Newmark); it stops when no force changes Phi by more than tol_F,
+    and gives way when the residual stops falling (a velocity reversal of a
+    power-law dashpot).  Then nonlinear Gauss-Seidel over the dampers, each a
+    Brent root in the bracket [F_i, Phi_i(F_i)], sweeps until no force moves
+    by more than tol_F.  Returns (F, converged); every FMU is left stepped
+    at its story's motion under F (its outputs are the damper forces)."""
+    from scipy.optimize import brentq
+
+    F0 = np.asarray(F0, dtype=float)
+    F = F0.copy()
+    n = F.size
+
+    def phi(i, x):
+        dF = F - F0
+        dF[i] = x - F0[i]
+        fmus[i].restore(states[i])
+        return fmus[i].step(t, h, d0[i] + S_d[i] @ dF, v0[i] + S_v[i] @ dF, rollback=True)
+
+    coupling = S_d / np.diag(S_d)[:, None]
+    best, best_norm = F.copy(), math.inf
+    for _ in range(newton_iterations):
+        G = np.array([phi(i, F[i]) for i in range(n)]) - F
+        norm = float(np.max(np.abs(G)))
+        if norm <= tol_F:
+            return F, True
+        if norm >= best_norm:
+            break
+        best, best_norm = F.copy(), norm
+        step = 1e-4 * np.maximum(1.0, np.abs(F))
+        a = np.array([(phi(i, F[i] + step[i]) - (F[i] + G[i])) / step[i] for i in range(n)])
+        F = F + np.linalg.solve(np.eye(n) - a[:, None] * coupling, G)
+    F = best
+
+    converged = False
+    for _ in range(max_sweeps):
+        moved = 0.0
+        for i in range(n):
+            a = F[i]
+            g_a = phi(i, a) - a
+            if abs(g_a) <= tol_F:
+                continue
+            b = a + g_a
+            g_b = phi(i, b) - b
+            if g_b == 0.0 or g_a * g_b > 0.0:  # root at b, or round-off at a flat end
+                root = b
+            else:
+                root = brentq(lambda x: phi(i, x) - x, a, b, xtol=tol_F, rtol=4 * np.finfo(float).eps)
+            moved = max(moved, abs(root - a))
+            F[i] = root
+        if moved <= tol_F:
+            converged = True
+            break
+    for i in range(n):  # leave each FMU stepped with the accepted forces
+        phi(i, F[i])
+    return F, converged
+
+
+def probe_flexibility(dampers: FrameDampers, checkpoint: NodeCheckpoint, stepper: _Stepper, h: float):
+    """(S_d [mm/kN], S_v [mm/s/kN]): the change of the damper deformations
+    and rates at the end of one step of h [s] per kN of damper force, column
+    j for damper j, from n + 1 solves (zero forces, then PROBE_FORCE on each
+    damper) from the saved state; OpenSees is left restored."""
+    n = dampers.n
+    checkpoint.save()
+    response = []
+    for j in range(-1, n):
+        F = np.zeros(n)
+        if j >= 0:
+            F[j] = PROBE_FORCE
+        checkpoint.restore()
+        dampers.set_forces(F)
+        if not stepper.step(h):
+            raise RuntimeError("the flexibility probe's OpenSees step did not converge")
+        response.append(dampers.read())
+    checkpoint.restore()
+    (d0, v0), rest = response[0], response[1:]
+    S_d = np.column_stack([(d - d0) / PROBE_FORCE for d, _ in rest])
+    S_v = np.column_stack([(v - v0) / PROBE_FORCE for _, v in rest])
+    return S_d, S_v
+
+
+def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_analysis: float | None = None,
+                     free_vibration: float = 0.0, use_velocity: bool = True, tol_d: float = 1e-6,
+                     tol_F: float = 1e-6, max_iterations: int = 10) -> tuple[FrameResult, CosimStats]:
+    """Shake ``building`` (without dampers; rigid braces) with ``motion``
+    (name, dt [s], accel [mm/s^2]) while one instance of the damper FMU at
+    ``fmu_path`` per above-grade story gives its damper's force; returns the
+    response as ``run_frame`` does (damper deformation and force histories:
+    the frame's and the FMUs') and CosimStats.
+
+    scheme          'explicit' or 'iterative' (elastic members only)
+    dt_analysis     [s] communication and analysis step (default the record's dt)
+    free_vibration  [s] at rest after the record
+    use_velocity    send the frame's damper rate v to the FMU (else it derives v from d)
+    tol_d           [mm] iterative: frame and FMU damper deformations agree
+    tol_F           [kN] iterative: damper forces of the FMU-side solve
+    max_iterations  iterative: OpenSees solves per step at most
+    """
+    if scheme not in SCHEMES:
+        raise InputError(f"co-simulation scheme '{scheme}': expected one of {', '.join(SCHEMES)}")
+    b = building
+    if b.brace_stiffness is not None:
+        raise InputError(f"building {b.name}: co-simulation needs rigid braces (brace_stiffness None); "
+                         "the FMU's nodal loads act at the diagonal's joints")
+    if scheme == "iterative" and b.yielding:
+        raise InputError(f"building {b.name}: the iterative scheme rolls OpenSees back, which openseespy "
+                         "does only for elastic members: use building.with_(yielding=False), or "
+                         "scheme 'explicit'")
+    name, dt, accel = _motion_arrays(motion)
+    h = dt if dt_analysis is None else float(dt_analysis)
+    if not h > 0:
+        raise InputError(f"dt_analysis = {dt_analysis}: must be > 0 s")
+    model = build_frame(b)
+    record_end = (accel.size - 1) * dt
+    n_steps = int(round((record_end + float(free_vibration)) / h))
+    _transient(dt, accel)
+    dampers = FrameDampers(b)
+    n = dampers.n
+    stepper = _Stepper()
+    checkpoint = NodeCheckpoint() if scheme == "iterative" else None
+
+    floors = model.floor_nodes
+    t = np.zeros(n_steps + 1)
+    u = np.zeros((n_steps + 1, len(floors)))
+    a_rel = np.zeros_like(u)
+    dmp_d = np.zeros((n_steps + 1, n))
+    dmp_f = np.zeros_like(dmp_d)
+    solves, max_solves, unconverged, probes = 0, 0, 0, 0
+    height = b.elevations[-1]
+    done, failed_at = n_steps, None
+
+    with tempfile.TemporaryDirectory(prefix="fvd_cosim-") as work:
+        fmus = damper_fmus(fmu_path, n, use_velocity, work)
+        try:
+            wall = time.perf_counter()
+            if scheme == "iterative":
+                S_d, S_v = probe_flexibility(dampers, checkpoint, stepper, h)
+                probes = n + 1
+            F = np.zeros(n)
+            for k in range(1, n_steps + 1):
+                tk = t[k - 1]
+                if scheme == "explicit":
+                    dampers.set_forces(F)
+                    ok = stepper.step(h)
+                    used = 1
+                    if ok:
+                        d, v = dampers.read()
+                        F = np.array([f.step(tk, h, d[i], v[i]) for i, f in enumerate(fmus)])
+                else:
+                    ok, used, F, accepted = _iterative_step(fmus, dampers, checkpoint, stepper, tk, h, F,
+                                                            S_d, S_v, tol_d, tol_F, max_iterations)
+                    unconverged += not accepted
+                    if ok:
+                        d, _ = dampers.read()
+                solves += used
+                max_solves = max(max_solves, used)
+                if not ok:
+                    done, failed_at = k - 1, float(tk + h)
+                    break
+                t[k] = ops.getTime()
+                for j, node in enumerate(floors):
+                    u[k, j] = ops.nodeDisp(node, 1)
+                    a_rel[k, j] = ops.nodeAccel(node, 1)
+                if not np.all(np.abs(u[k]) < height):
+                    done, failed_at = k - 1, float(t[k])
+                    break
+                dmp_d[k], dmp_f[k] = d, F
+            wall = time.perf_counter() - wall
+            fmu_steps = sum(f.steps for f in fmus)
+        finally:
+            for f in fmus:
+                f.close()
+    ops.wipe()
+
+    keep = slice(0, done + 1)
+    t, u, a_rel, dmp_d, dmp_f = t[keep], u[keep], a_rel[keep], dmp_d[keep], dmp_f[keep]
+    ag = np.interp(t, np.arange(accel.size) * dt, accel, right=0.0)
+    heights = np.asarray(b.story_heights[b.ground_level:])
+    drift = np.diff(np.column_stack([np.zeros(len(t)), u]), axis=1) / heights
+    energy = loop_energy(dmp_f, dmp_d)
+    steps = max(done, 1)
+    result = FrameResult(b.name, name, t, u, drift, a_rel + ag[:, None], ag, dmp_d, dmp_f, model.periods,
+                         model.rayleigh, record_end, _report(stepper, failed_at, t[-1], energy),
+                         [("fmu", str(fmu_path))])
+    stats = CosimStats(scheme, done, solves / steps, max_solves,
+                       fmu_steps / (n * steps), unconverged, probes, wall)
+    return result, stats
+
+
+def _iterative_step(fmus, dampers, checkpoint, stepper, t, h, F_prev, S_d, S_v, tol_d, tol_F, max_iterations):
+    """One iterative communication step (module docstring): returns (OpenSees
+    step converged, OpenSees solves, damper forces F(t + h), tol_d met)."""
+    checkpoint.save()
+    states = [f.save() for f in fmus]
+    try:
+        F_ref = np.asarray(F_prev, dtype=float)
+        dampers.set_forces(F_ref)
+        if not stepper.step(h):
+            return False, 1, F_ref, False
+        d_ref, v_ref = dampers.read()
+        solves, accepted = 1, False
+        while True:
+            F, _ = solve_damper_forces(fmus, states, t, h, d_ref, v_ref, F_ref, S_d, S_v, tol_F)
+            d_fmu = d_ref + S_d @ (F - F_ref)
+            checkpoint.restore()
+            dampers.set_forces(F)
+            if not stepper.step(h):
+                return False, solves + 1, F, False
+            solves += 1
+            d, v = dampers.read()
+            if np.max(np.abs(d - d_fmu)) <= tol_d:
+                accepted = True
+                break
+            if solves >= max_iterations:
+                break
+            F_ref, d_ref, v_ref = F, d, v
+        forces = np.array([f.outputs()[0] for f in fmus])
+        return True, solves, forces, accepted
+    finally:
+        for f, s in zip(fmus, states):
+            f.free(s)
