@@ -70,8 +70,9 @@ def format_series(summary: dict, shown: int = 3) -> str:
             for w in ws:
                 by_code.setdefault(w["code"], []).append(dev)
         for code, devs in by_code.items():
-            named = ", ".join(dict.fromkeys(devs[:shown]))
-            counts.append(f"  law {spec}: {code} on {len(set(devs))} device(s) ({named}{', ...' if len(devs) > shown else ''})")
+            devs = list(dict.fromkeys(devs))
+            more = ", ..." if len(devs) > shown else ""
+            counts.append(f"  law {spec}: {code} on {len(devs)} device(s) ({', '.join(devs[:shown])}{more})")
     if counts:
         lines += ["", "Warnings (messages in summary.json and the parameter files):"] + counts
     return "\n".join(lines)

@@ -1,0 +1,118 @@
+"""Acceptance of a production series: each device's calibrated force at the
+design velocity against the nominal force +- a tolerance.
+
+The test motion is the paper's sinusoid reaching the design velocity V
+[mm/s]: amplitude A [mm] (default: the median peak displacement of the
+series' records), frequency V / (2 pi A), ``cycles`` full cycles between
+half-cycle fades, sampled at the records' median dt [s].  The force at the
+design velocity is the model's force (calibrated parameters: each device's
+best run) at the last sample of peak velocity, in tension (v = +V) and in
+compression (v = -V) [kN].  A device passes when both are within
+``tolerance`` of the nominal force: |F - F_nominal| <= tolerance F_nominal.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+KEYS = ("velocity", "nominal_force", "tolerance", "amplitude", "cycles")
+
+
+@dataclass(frozen=True)
+class Acceptance:
+    """Design velocity [mm/s], nominal force [kN] (None: from the rig's nominal
+    device), relative tolerance, test amplitude [mm] (None: from the records),
+    full-amplitude cycles."""
+
+    velocity: float = 500.0
+    nominal_force: float | None = None
+    tolerance: float = 0.15
+    amplitude: float | None = None
+    cycles: float = 3.0
+
+    @classmethod
+    def from_dict(cls, data, where: str) -> "Acceptance":
+        if data is None:
+            return cls()
+        if not isinstance(data, dict):
+            raise InputError(f"{where}: key 'acceptance': expected a mapping ({', '.join(KEYS)})")
+        unknown = [k for k in data if k not in KEYS]
+        if unknown:
+            raise InputError(f"{where}: unknown key 'acceptance.{unknown[0]}' (known: {', '.join(KEYS)})")
+        values = {}
+        for key, value in data.items():
+            if value is None:
+                continue
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                raise InputError(f"{where}: key 'acceptance.{key}': '{value}' is not a number") from None
+            if not (np.isfinite(x) and x > 0) or (key == "tolerance" and x >= 1):
+                raise InputError(f"{where}: key 'acceptance.{key}': {value} must be > 0"
+                                 f"{' and < 1' if key == 'tolerance' else ''}")
+            values[key] = x
+        return cls(**values)
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def design_motion(acc: Acceptance, amplitude: float, dt: float):
+    """The acceptance sinusoid as a noise-free Record (F = 0): t [s], d [mm], v [mm/s], a."""
+    from ..records import Record
+    from ..rig import paper
+
+    proto = paper(amplitude=amplitude, velocity=acc.velocity, cycles=acc.cycles, dt=dt)
+    t = proto.times()
+    d, v, a = proto.motion(t)
+    return Record(t, d, np.zeros_like(t), v, a, name=f"acceptance_{acc.velocity:g}mm_s")
+
+
+def forces_at_velocity(F: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """(..., 2): force at the last sample of peak velocity, tension (v max) and
+    compression (v min, as a magnitude) [kN]; F (..., n_t)."""
+    i_t, i_c = _last_peak(v), _last_peak(-v)
+    return np.stack([F[..., i_t], -F[..., i_c]], axis=-1)
+
+
+def _last_peak(v: np.ndarray) -> int:
+    """Index of the last local maximum of v within 0.1% of its global maximum."""
+    i = int(np.flatnonzero(v >= (1 - 1e-3) * v.max())[-1])
+    while i > 0 and v[i - 1] > v[i]:
+        i -= 1
+    return i
+
+
+def evaluate(summary: dict, records, cs, acc: Acceptance, nominal_device=None) -> dict:
+    """Per model: each device's force at the design velocity and its verdict.
+
+    Returns {"settings", "nominal_force", "nominal_source", "amplitude", "dt",
+    "models": {spec: {"F": (n_dev, 2) [kN], "deviation": (n_dev,), "passed": (n_dev,) bool}}}.
+    """
+    from ..rig import paper, trace
+
+    amplitude = acc.amplitude or float(np.median([r.scales()["d"] for r in records]))
+    dt = float(np.median([r.dt for r in records]))
+    motion = design_motion(acc, amplitude, dt)
+    if acc.nominal_force is not None:
+        nominal, source = acc.nominal_force, "campaign file"
+    elif nominal_device is not None:
+        proto = paper(amplitude=amplitude, velocity=acc.velocity, cycles=acc.cycles, dt=dt)
+        tr = trace(nominal_device, proto)
+        nominal, source = float(forces_at_velocity(tr["F"], tr["v"]).mean()), "rig nominal device"
+    else:
+        return {"settings": acc.as_dict(), "nominal_force": None, "nominal_source": None, "models": {},
+                "amplitude": amplitude, "dt": dt}
+    out = {"settings": acc.as_dict(), "nominal_force": nominal, "nominal_source": source,
+           "amplitude": amplitude, "dt": dt, "models": {}}
+    devices = summary["devices"]
+    for spec, m in summary["models"].items():
+        P = np.array([m["best"][dev].params for dev in devices])
+        F = forces_at_velocity(cs.model(spec).force(motion, P), motion.v)
+        deviation = np.max(np.abs(F / nominal - 1.0), axis=1)
+        out["models"][spec] = {"F": F, "deviation": deviation, "passed": deviation <= acc.tolerance}
+    return out

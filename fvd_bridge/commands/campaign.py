@@ -1,0 +1,255 @@
+"""``fvd-bridge campaign CAMPAIGN.yaml``: a production-scale calibration campaign,
+parallel (local processes or a Dask cluster) and resumable after a kill.
+
+The campaign file (YAML; relative paths are relative to the file):
+
+    records: [lab/dev*.csv, extra/dev9.csv]     # paths or globs, one record per device; or:
+    rig: {devices: 200, nominal: {C: 45.4, alpha: 0.3}, scatter: {C: 0.05},
+          protocol: paper, noise: {force: 1.0, displacement: 0.005}, seed: 0}   # -> OUT/records
+    models: 2,6,9                              # laws and LAW+EFFECT specs (a list works too)
+    runs: 5
+    seed: 0
+    out: series_out
+    acceptance: {velocity: 500, nominal_force: 300, tolerance: 0.15}   # all optional
+    outliers: {k: 3.5}
+    executor: local                            # or dask; --executor wins
+    scheduler: tcp://host:8786                 # dask only; --scheduler wins
+
+plus every option of ``calibrate`` under its own name (optimizer, bounds,
+bound, pop, gens, stall, jobs, plugin, no_figures, columns, units, mat_var,
+dt, sg_window, sg_order), read by calibrate's own parser.  An unknown key is
+refused with one line naming the file and the key.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import os
+import sys
+
+from ..errors import InputError
+from .calibrate import add_campaign_options, campaign_settings, unique_names
+from .common import add_record_options, read_records
+
+#: keys only a campaign file has (calibrate's options are the rest)
+CAMPAIGN_KEYS = ("records", "rig", "models", "acceptance", "outliers", "executor", "scheduler")
+#: calibrate options a campaign file does not take: (key, why)
+NOT_IN_FILE = {"laws": "use 'models'", "config": "the campaign file is the config", "quiet": "a command-line flag"}
+EXECUTORS = ("local", "dask")
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "campaign", help="a production-scale calibration campaign from a YAML file (parallel, resumable)",
+        description="Calibrate models on every device of a series (record files or a virtual rig series) over "
+                    "several runs, in parallel on local cores or a Dask cluster; every finished unit (device, "
+                    "model, run) is stored at once in OUT/.units, so a killed campaign started again resumes "
+                    "where it stopped. Writes calibrate's outputs plus production statistics (distributions, "
+                    "outliers, acceptance at the design velocity).")
+    p.add_argument("campaign", metavar="CAMPAIGN.yaml",
+                   help="the campaign file: records or rig, models, runs, seed, out, acceptance, outliers and "
+                        "any calibrate option (see the README, section Campaigns)")
+    p.add_argument("--executor", choices=EXECUTORS, help="local processes (default) or dask")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="Dask scheduler address, e.g. tcp://10.0.0.5:8786 (default: a LocalCluster on this machine)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+
+
+# ------------------------------------------------------------------ the campaign file
+def _option_parser() -> argparse.ArgumentParser:
+    """calibrate's options (one parser for both verbs), without exiting on a bad value."""
+    p = argparse.ArgumentParser(prog="campaign", add_help=False, exit_on_error=False)
+    add_campaign_options(p)
+    add_record_options(p)
+    return p
+
+
+def _tokens(action, value) -> list[str]:
+    flag = action.option_strings[-1]
+    if isinstance(action, argparse._StoreTrueAction):
+        return [flag] if value else []
+    values = value if isinstance(value, list) and isinstance(action, argparse._AppendAction) else [value]
+    if isinstance(value, list) and not isinstance(action, argparse._AppendAction):
+        values = [",".join(str(v) for v in value)]
+    return [f"{flag}={v}" for v in values]
+
+
+def read_campaign_file(path: str) -> tuple[dict, argparse.Namespace]:
+    """(campaign-only keys, calibrate's options as a Namespace) of a campaign file."""
+    import yaml
+
+    try:
+        with open(path) as fh:
+            data = yaml.safe_load(fh) or {}
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except yaml.YAMLError as exc:
+        raise InputError(f"{path}: not valid YAML ({' '.join(str(exc).split())})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: expected a mapping of keys to values")
+    parser = _option_parser()
+    actions = {a.dest: a for a in parser._actions if a.option_strings}
+    args = parser.parse_args([])
+    own = {}
+    for key, value in data.items():
+        key = str(key)
+        dest = "laws" if key == "models" else key.replace("-", "_")
+        if key in NOT_IN_FILE:
+            raise InputError(f"{path}: unknown key '{key}' ({NOT_IN_FILE[key]})")
+        if key in CAMPAIGN_KEYS and key != "models":
+            own[key] = value
+            continue
+        if dest not in actions:
+            raise InputError(f"{path}: unknown key '{key}' (campaign keys: {', '.join(CAMPAIGN_KEYS)}, "
+                             f"or a calibrate option: {', '.join(sorted(k for k in actions if k not in NOT_IN_FILE))})")
+        if value is None:
+            continue
+        try:
+            parser.parse_args(_tokens(actions[dest], value), namespace=args)
+        except argparse.ArgumentError as exc:
+            raise InputError(f"{path}: key '{key}': {exc.message}") from None
+    return own, args
+
+
+def _file_sha256(path: str) -> str:
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.sha256(fh.read()).hexdigest()
+    except OSError as exc:
+        raise InputError(f"plugin {path}: cannot read ({exc.strerror or exc})") from None
+
+
+def plan(path: str) -> dict:
+    """Everything a campaign file says, checked before any work: settings, sources,
+    out, executor, acceptance, outlier k, the effective settings of the fingerprint."""
+    from ..campaign.acceptance import Acceptance
+    from ..campaign.sources import rig_spec
+    from ..campaign.stats import OUTLIER_K
+
+    own, args = read_campaign_file(path)
+    base = os.path.dirname(os.path.abspath(path))
+    if not args.out:
+        raise InputError(f"{path}: key 'out' is required (the output directory)")
+    if ("records" in own) == ("rig" in own):
+        raise InputError(f"{path}: give exactly one of 'records' (paths or globs) and 'rig' (a virtual series)")
+    args.out = os.path.join(base, os.path.expanduser(str(args.out)))
+    args.plugin = [os.path.join(base, os.path.expanduser(p)) for p in args.plugin]
+    if args.jobs is not None and args.jobs < 0:
+        raise InputError(f"{path}: key 'jobs': {args.jobs} must be >= 0 (0: one per core)")
+    try:
+        cs = campaign_settings(args)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+    rig = rig_spec(own["rig"], path) if "rig" in own else None
+    outliers = own.get("outliers") or {}
+    if not isinstance(outliers, dict) or any(k != "k" for k in outliers):
+        raise InputError(f"{path}: key 'outliers': expected {{k: NUMBER}} (robust standard deviations)")
+    try:
+        k = float(outliers.get("k", OUTLIER_K))
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: key 'outliers.k': '{outliers.get('k')}' is not a number") from None
+    if not k > 0:
+        raise InputError(f"{path}: key 'outliers.k': {k:g} must be > 0")
+    executor = own.get("executor", "local")
+    if executor not in EXECUTORS:
+        raise InputError(f"{path}: key 'executor': '{executor}' (expected {' or '.join(EXECUTORS)})")
+    settings = {**cs.as_dict(),
+                "plugins": [{"file": os.path.basename(p), "sha256": _file_sha256(p)} for p in cs.plugins],
+                "source": {"rig": rig} if rig else "records"}
+    return {"cs": cs, "args": args, "base": base, "out": args.out, "rig": rig, "records": own.get("records"),
+            "acceptance": Acceptance.from_dict(own.get("acceptance"), path), "k": k, "executor": executor,
+            "scheduler": own.get("scheduler"), "settings": settings}
+
+
+def load_records(p: dict, path: str):
+    """The campaign's records, in order, with unique names (a rig series is simulated once into OUT/records)."""
+    from ..campaign.sources import expand_records, rig_records
+
+    if p["rig"] is not None:
+        paths = rig_records(p["rig"], p["out"], path)
+    else:
+        paths = expand_records(p["records"], p["base"], path)
+    return unique_names(read_records(paths, p["args"]))
+
+
+def make_executor(p: dict, args):
+    """The executor the campaign file and the command line ask for."""
+    from ..campaign.executors import Dask, Processes
+
+    scheduler = args.scheduler or p["scheduler"]
+    kind = args.executor or ("dask" if args.scheduler else p["executor"])
+    if scheduler and kind != "dask":
+        raise InputError(f"--scheduler {scheduler}: needs --executor dask (or executor: dask in the campaign file)")
+    if kind == "dask":
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise InputError("--executor dask needs the 'distributed' package (pip install distributed)") from None
+        return Dask(scheduler, workers=p["cs"].jobs), kind
+    return Processes(p["cs"].jobs), kind
+
+
+def _remove_stale_staging(out: str) -> None:
+    """Staging directories of OUT's outputs that a killed run left (the store's lock is held)."""
+    import glob
+    import shutil
+
+    out = os.path.abspath(out)
+    for stage in glob.glob(os.path.join(os.path.dirname(out), f".{glob.escape(os.path.basename(out))}.partial-*")):
+        shutil.rmtree(stage, ignore_errors=True)
+
+
+# ------------------------------------------------------------------------- the verb
+def run(args) -> int:
+    from ..campaign import acceptance, production
+    from ..campaign.outputs import write_outputs
+    from ..campaign.report import format_report, format_series
+    from ..campaign.resume import Resumable
+    from ..campaign.runner import run_campaign
+    from ..campaign.store import UnitStore
+
+    p = plan(args.campaign)
+    cs = p["cs"]
+    store = UnitStore(p["out"], source=args.campaign)
+    store.check(p["settings"])  # a changed campaign is refused before anything is written
+    records = load_records(p, args.campaign)
+    for r in records:
+        for w in r.warnings:
+            print(f"warning: {w}", file=sys.stderr)
+    executor, kind = make_executor(p, args)
+    store.open(p["settings"], records)
+    _remove_stale_staging(p["out"])
+    try:
+        where = (f"dask scheduler {executor.scheduler}" if kind == "dask" and executor.scheduler else
+                 f"dask LocalCluster, {executor.workers} workers" if kind == "dask" else
+                 f"local, {executor.jobs} process(es)")
+        print(f"campaign: {len(records)} device(s) x {len(cs.specs)} model(s) x {cs.runs} run(s), optimizer "
+              f"{cs.optimizer}, bounds {cs.bounds}; executor {where}", file=sys.stderr)
+        resumable = Resumable(executor, store, progress=not args.quiet)
+        results = run_campaign(records, cs, progress=False, executor=resumable)
+        figures = not p["args"].no_figures
+        made = {}
+
+        def extra(stage, summary):
+            made["prod"] = production.analyse(summary, cs, p["k"])
+            nominal = None
+            if p["rig"] is not None:
+                from ..campaign.sources import rig_nominal
+
+                nominal = rig_nominal(p["rig"])
+            made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
+            production.write(stage, made["prod"], made["accept"], figures)
+
+        summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra)
+    finally:
+        store.close()
+    print(format_report(summary) if len(records) <= 6 else format_series(summary))
+    print(production.format_production(made["prod"], made["accept"]))
+    print(f"\nunits: {resumable.total} ({resumable.resumed} resumed from {store.root}, {store.computed} computed "
+          f"now{f', {len(store.corrupt)} corrupt redone' if store.corrupt else ''})")
+    print(f"wrote {p['out']}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json, production.csv, "
+          f"outliers.csv{', acceptance.csv' if made['accept']['models'] else ''}, production.json"
+          f"{', figures/' if figures else ''})")
+    return 0
