@@ -30,16 +30,7 @@ def format_report(summary: dict) -> str:
             label = f"law {spec}" if k == 0 else ""
             cells = "".join(f"{f'{mean[i]:.4g} ({sigma[i]:.2g})':>{w_cell}}" for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
-    lines += ["", f"{'model':<{w_model}}{'mean OF':>10}{'beta':>10}  Pareto"]
-    for spec, m in models.items():
-        lines.append(f"{'law ' + spec:<{w_model}}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
-                     f"{'non-dominated' if m['non_dominated'] else ''}")
-    front = [s for s, m in models.items() if m["non_dominated"]]
-    lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
-    notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
-    if notes:
-        lines += ["", "Robustness notes:"]
-        lines += [f"  law {spec}, {note}" for spec, note in notes]
+    lines += [""] + _pareto_lines(models, w_model)
     warn = [(spec, dev, w["message"]) for spec, m in models.items()
             for dev, ws in m["warnings"].items() for w in ws]
     if warn:
@@ -48,13 +39,9 @@ def format_report(summary: dict) -> str:
     return "\n".join(lines)
 
 
-def format_series(summary: dict, shown: int = 3) -> str:
-    """The report of a large series: per model mean OF, beta, Pareto flag and the
-    warnings counted by kind (the first few devices named); every value is in the files."""
-    models = summary["models"]
-    w_model = _width([f"law {s}" for s in models], 5) + GAP
-    lines = ["", f"{len(summary['devices'])} devices", "",
-             f"{'model':<{w_model}}{'mean OF':>10}{'beta':>10}  Pareto"]
+def _pareto_lines(models: dict, w_model: int) -> list:
+    """Per model: mean OF, beta and the Pareto flag; the Pareto set; the robustness notes."""
+    lines = [f"{'model':<{w_model}}{'mean OF':>10}{'beta':>10}  Pareto"]
     for spec, m in models.items():
         lines.append(f"{'law ' + spec:<{w_model}}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
                      f"{'non-dominated' if m['non_dominated'] else ''}")
@@ -63,6 +50,15 @@ def format_series(summary: dict, shown: int = 3) -> str:
     notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
     if notes:
         lines += ["", "Robustness notes:"] + [f"  law {spec}, {note}" for spec, note in notes]
+    return lines
+
+
+def format_series(summary: dict, shown: int = 3) -> str:
+    """The report of a large series: per model mean OF, beta, Pareto flag and the
+    warnings counted by kind (the first few devices named); every value is in the files."""
+    models = summary["models"]
+    w_model = _width([f"law {s}" for s in models], 5) + GAP
+    lines = ["", f"{len(summary['devices'])} devices", ""] + _pareto_lines(models, w_model)
     counts = []
     for spec, m in models.items():
         by_code: dict = {}

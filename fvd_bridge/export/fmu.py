@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..errors import InputError
+from ..errors import InputError, positive
 
 #: the C sources, model description template and build description (the repository's fmu/ folder)
 FMU_SOURCES = Path(__file__).resolve().parents[2] / "fmu"
@@ -236,13 +236,7 @@ def _source(name: str) -> Path:
 def _h_max(calibration, h_max) -> float:
     if h_max is None:
         h_max = (calibration.record or {}).get("dt") or DEFAULT_H_MAX
-    try:
-        h = float(h_max)
-    except (TypeError, ValueError):
-        raise InputError(f"h_max {h_max!r}: not a number of seconds") from None
-    if not (math.isfinite(h) and h > 0.0):
-        raise InputError(f"h_max {h_max!r}: must be a positive time step in s")
-    return h
+    return positive("h_max [s]", h_max)
 
 
 def _device(calibration) -> str:

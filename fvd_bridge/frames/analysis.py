@@ -545,16 +545,24 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
             dmp_f[k, i] = ops.eleResponse(link, "basicForce")[0]
     ops.wipe()
 
+    t, u, drift, a_abs, ag, dmp_d, dmp_f = histories(building, accel, dt, done, t, u, a_rel, dmp_d, dmp_f)
+    has = bool(links)
+    energy = loop_energy(dmp_f, dmp_d) if has else None
+    return FrameResult(building.name, name, t, u, drift, a_abs, ag,
+                       dmp_d if has else None, dmp_f if has else None, model.periods, model.rayleigh,
+                       record_end, _report(stepper, failed_at, t[-1], energy), list(damper or []))
+
+
+def histories(building, accel, dt: float, done: int, t, u, a_rel, dmp_d, dmp_f) -> tuple:
+    """The first ``done`` + 1 samples of an analysis' histories, with the ground
+    acceleration [mm/s^2] at t (zero after the record), the drift ratios [-]
+    and the absolute floor accelerations [mm/s^2]: (t, u, drift, a_abs, ag, dmp_d, dmp_f)."""
     keep = slice(0, done + 1)
     t, u, a_rel, dmp_d, dmp_f = t[keep], u[keep], a_rel[keep], dmp_d[keep], dmp_f[keep]
     ag = np.interp(t, np.arange(accel.size) * dt, accel, right=0.0)
     heights = np.asarray(building.story_heights[building.ground_level:])
     drift = np.diff(np.column_stack([np.zeros(len(t)), u]), axis=1) / heights
-    has = bool(links)
-    energy = loop_energy(dmp_f, dmp_d) if has else None
-    return FrameResult(building.name, name, t, u, drift, a_rel + ag[:, None], ag,
-                       dmp_d if has else None, dmp_f if has else None, model.periods, model.rayleigh,
-                       record_end, _report(stepper, failed_at, t[-1], energy), list(damper or []))
+    return t, u, drift, a_rel + ag[:, None], ag, dmp_d, dmp_f
 
 
 def _report(stepper: _Stepper, failed_at: float | None, t_end: float, energy) -> SolverReport:

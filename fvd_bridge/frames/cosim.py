@@ -80,7 +80,7 @@ import openseespy.opensees as ops
 
 from ..errors import InputError
 from .analysis import (FrameResult, _motion_arrays, _node, _report, _Stepper, _transient, build_frame,
-                       loop_energy)
+                       histories, loop_energy)
 
 SCHEMES = ("explicit", "iterative")
 #: tags of the damper load pattern and its Constant series (the frame's excitation uses 1)
@@ -465,14 +465,10 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
                 f.close()
     ops.wipe()
 
-    keep = slice(0, done + 1)
-    t, u, a_rel, dmp_d, dmp_f = t[keep], u[keep], a_rel[keep], dmp_d[keep], dmp_f[keep]
-    ag = np.interp(t, np.arange(accel.size) * dt, accel, right=0.0)
-    heights = np.asarray(b.story_heights[b.ground_level:])
-    drift = np.diff(np.column_stack([np.zeros(len(t)), u]), axis=1) / heights
+    t, u, drift, a_abs, ag, dmp_d, dmp_f = histories(b, accel, dt, done, t, u, a_rel, dmp_d, dmp_f)
     energy = loop_energy(dmp_f, dmp_d)
     steps = max(done, 1)
-    result = FrameResult(b.name, name, t, u, drift, a_rel + ag[:, None], ag, dmp_d, dmp_f, model.periods,
+    result = FrameResult(b.name, name, t, u, drift, a_abs, ag, dmp_d, dmp_f, model.periods,
                          model.rayleigh, record_end, _report(stepper, failed_at, t[-1], energy),
                          [("fmu", str(fmu_path))])
     stats = CosimStats(scheme, done, solves / steps, max_solves,
