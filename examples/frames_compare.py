@@ -54,7 +54,7 @@ def main(argv=None) -> int:
 
     from fvd_bridge import Model, calibrate, read_record
     from fvd_bridge.frames.buildings import three_story
-    from fvd_bridge.frames.compare import run_cases, series_spread, verdict
+    from fvd_bridge.frames.compare import run_cases
     from fvd_bridge.frames.motions import read_motion
     from fvd_bridge.frames.outputs import format_frame_table, write_frame_outputs
     from fvd_bridge.rig import Device, Noise, paper, production_series, write_series
@@ -82,8 +82,8 @@ def main(argv=None) -> int:
     building = three_story()
     cases = run_cases(building, motion, calibrations, progress=lambda m: print(m, file=sys.stderr))
     summary = write_frame_outputs(os.path.join(args.out, "frame"), building, motion, cases)
-    print(format_frame_table(cases, series_spread(cases), verdict(series_spread(cases))))
-    print(f"\nwrote {args.out}/frame/ ({len(cases)} analyses); verdict: {summary['verdict']}")
+    print(format_frame_table(cases, summary["series"], summary["verdict"]))
+    print(f"\nwrote {args.out}/frame/ ({len(cases)} analyses)")
     return 0
 
 

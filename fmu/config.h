@@ -43,7 +43,6 @@ typedef enum {
     N_VR
 } ValueReference;
 
-#define N_EFFECTS 7   /* effects.scalar.EFFECT_NAMES */
 #define N_LAW_STATE 13 /* laws.scalar: Z, C_PHI, ..., DONE */
 #define N_SPRING 8    /* effects.steps.series_rest: (w, u, z, W0, pw, x_o, q, dq) */
 

@@ -495,14 +495,13 @@ static void element_force(int code, const double *p, double x, double x0, double
 typedef struct { double R, dR, u, w, Fo, z; } Residual;
 
 static Residual series_residual(double q, double a, int code, const double *p, double y, double wb, double hth,
-                                double x0, double z0, double zb, double hz, double Ks, double r, double hf,
-                                double Ff) {
+                                double x0, double z0, double zb, double Ks, double r, double hf, double Ff) {
     Residual res;
     double dudq, Fi, Fo, z, dfric, dFdx;
     q_to_u(q, a, &res.u, &dudq);
     res.w = wb - hth * res.u;
     const double x = y - res.w;
-    element_force(code, p, x, x0, res.u, z0, zb, hz, r, hf, Ff, &Fi, &Fo, &z, &dfric, &dFdx);
+    element_force(code, p, x, x0, res.u, z0, zb, hth, r, hf, Ff, &Fi, &Fo, &z, &dfric, &dFdx);
     if (code <= 5 && code != 1) {
         res.dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq;
     } else if (code == 1) {
@@ -517,8 +516,8 @@ static Residual series_residual(double q, double a, int code, const double *p, d
 }
 
 static Residual series_step(double q_guess, double a, int code, const double *p, double y, double wb, double hth,
-                            double x0, double z0, double zb, double hz, double Ks, double r, double hf, double Ff) {
-#define RESIDUAL(qq) series_residual(qq, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
+                            double x0, double z0, double zb, double Ks, double r, double hf, double Ff) {
+#define RESIDUAL(qq) series_residual(qq, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff)
     double lo = -INFINITY, hi = INFINITY;
     double q = q_guess;
     Residual res = RESIDUAL(q);
@@ -613,17 +612,17 @@ static void series_sample(int code, const double *p, double a, double ks, double
         const double hf = theta != 0.0 ? heat_factor(theta, W0 + h * pw * J_TO_MJ) : 1.0;
         /* TR stage to t + g h */
         double wb = w + tr_g - 0.5 * g * h * u;
-        const double hz = 0.5 * g * h;  /* law 7's trapezoidal stage: z + hz q phi(z) = z - hz q phi(z0) + travel */
-        double zb = code == 7 ? z - hz * law7_rate(z, p) : 0.0;
-        const Residual sg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, zb, hz, ks, r, hf, Ff);
+        const double hth = 0.5 * g * h;  /* law 7's trapezoidal stage: z + hth q phi(z) = z - hth q phi(z0) + travel */
+        double zb = code == 7 ? z - hth * law7_rate(z, p) : 0.0;
+        const Residual sg = series_step(q + g * dq, a, code, p, yg, wb, hth, xl, z, zb, ks, r, hf, Ff);
         const double pwg = sg.Fo * sg.u / hf;
         /* BDF2 stage to t + h */
         wb = c_g * sg.w - c_0 * w + tr_h - c_g * tr_g;
         const double qg = a != 1.0 ? powsign(sg.u, a) : sg.u;
         /* law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1) */
         zb = code == 7 ? c_g * sg.z - c_0 * z - c_0 * (yg - sg.w - xl) : 0.0;
-        const Residual s1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - sg.w, sg.z, zb, c_h,
-                                        ks, r, hf, Ff);
+        const Residual s1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - sg.w, sg.z, zb, ks, r,
+                                        hf, Ff);
         fo = s1.Fo;
         const double pw1 = fo * s1.u / hf;
         W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ;
@@ -657,7 +656,6 @@ static void law_sample(int code, const double *k, double *s, double v0, double v
 /* first constant of each law's parameters, and their number (laws/catalog.py order) */
 static const int LAW_FIRST[10] = {0, vr_law1_C, vr_law2_C, vr_law3_C, vr_law4_C, vr_law5_C, vr_law6_C, vr_law7_C,
                                   vr_law8_C, vr_law9_C};
-static const int LAW_SIZE[10] = {0, 1, 2, 3, 4, 4, 4, 4, 4, 3};
 
 static bool series_on(const ModelData *m) {
     return m->flag[vr_series_stiffness_enabled] && !(m->value[vr_series_stiffness_Ks] >= KS_RIGID_FROM);

@@ -20,7 +20,9 @@ from .errors import InputError
 
 def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = "de",
               bounds: str = "auto", plugins=(), pop: int | None = None, gens: int | None = None) -> Calibration:
-    """Fit one model to one record ``runs`` times (seeds (seed, run)); the best
+    """Fit one model to one record ``runs`` times, with the seeds `fvd-bridge
+    calibrate RECORD --laws SPEC --runs N --seed S` gives its runs (campaign.tasks:
+    (seed, device 0, model 0, run)), so both reach the same calibration; the best
     run as a Calibration with the post-fit warnings and the run statistics.
     ``pop``, ``gens``: optimizer settings as `calibrate --pop --gens` (None: defaults)."""
     from .campaign.checks import fit_warnings
@@ -30,7 +32,7 @@ def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: st
     if int(runs) < 1:
         raise InputError(f"runs {runs}: must be at least 1")
     settings = settings_for(optimizer, pop, gens)
-    fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, r], settings=settings)
+    fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings)
             for r in range(int(runs))]
     best = min(fits, key=lambda f: f.of)
     P = np.array([f.params for f in fits])

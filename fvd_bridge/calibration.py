@@ -113,15 +113,10 @@ class Calibration:
 
     def save(self, path: str) -> str:
         """Write the file atomically (a temporary file renamed into place); returns ``path``."""
-        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-        tmp = f"{path}.partial-{os.getpid()}"
-        try:
-            with open(tmp, "w") as fh:
-                yaml.safe_dump(self.to_dict(), fh, sort_keys=False, width=100)
-            os.replace(tmp, path)
-        finally:
-            if os.path.exists(tmp):
-                os.remove(tmp)
+        from .io.staging import atomic_file
+
+        with atomic_file(path) as fh:
+            yaml.safe_dump(self.to_dict(), fh, sort_keys=False, width=100)
         return path
 
     @classmethod

@@ -13,7 +13,7 @@ pytest.importorskip("openseespy.opensees")
 
 from fvd_bridge.calibration import Calibration  # noqa: E402
 from fvd_bridge.errors import InputError  # noqa: E402
-from fvd_bridge.export import apply, opensees_commands, opensees_export, to_script  # noqa: E402
+from fvd_bridge.export import apply, opensees_export, to_script  # noqa: E402
 from fvd_bridge.export.opensees import (EXACT_OF, FRICTION_TABLE_ERROR, HYSTERESIS_OF_RATE,  # noqa: E402
                                         friction_table, step_ratio)
 from fvd_bridge.export.opensees_check import check, drive_element  # noqa: E402
@@ -120,7 +120,7 @@ def test_law7_series_stiffness_adds_springs():
     the composed model at one step per sample (law 7 behind the spring is
     integrated by TR-BDF2, as the plain law) and resolved by 64 substeps."""
     model, pars = with_effects("7+series_stiffness", series_stiffness__Ks=150.0)
-    (_, kind, _, K, C, alpha), = opensees_commands(model, pars)
+    (_, kind, _, K, C, alpha), = opensees_export(model, pars).commands
     assert (kind, K, C, alpha) == ("ViscousDamper", pytest.approx(60.0), 45.0, 0.3)
     _, t, d, v, _, _ = golden(7)
     for substeps in (1, 64):
@@ -139,14 +139,14 @@ def test_viscous_damper_in_element():
 def test_effects_off_are_left_out():
     model, pars = with_effects("2+gap+series_stiffness+asymmetry+thermal_softening+friction"
                                "+parallel_stiffness+inertia", **{k.replace(".", "__"): x for k, x in OFF.items()})
-    assert opensees_commands(model, pars, tag=3) == [("uniaxialMaterial", "Viscous", 3, 45.0, 0.3)]
+    assert opensees_export(model, pars, tag=3).commands == [("uniaxialMaterial", "Viscous", 3, 45.0, 0.3)]
 
 
 def test_tags():
     """The damper is material ``tag`` (defined last); helpers are tag+1, tag+2, ..."""
     model, pars = with_effects("3+friction+parallel_stiffness", friction__Ff=2.0,
                                parallel_stiffness__Kp=1.0, parallel_stiffness__F0=3.0)
-    commands = opensees_commands(model, pars, tag=100)
+    commands = opensees_export(model, pars, tag=100).commands
     tags = [c[2] for c in commands]
     assert tags[-1] == 100 and commands[-1][1] == "Parallel"
     assert sorted(tags[:-1]) == list(range(101, 101 + len(tags) - 1))

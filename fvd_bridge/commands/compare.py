@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 
 import numpy as np
 
@@ -55,8 +54,8 @@ def _read(path: str, args):
 
     try:
         return read_records([path], args)[0], True
-    except InputError as exc:
-        if "column 'F'" not in str(exc) and "'F'" not in str(exc):
+    except InputError as exc:  # only a file without a force column is a history
+        if "(for F) not found" not in str(exc) and "expected a header such as t,d,F, found numbers" not in str(exc):
             raise
     hist = read_history(path)
     t = hist.t0 + np.arange(hist.n) * hist.dt
@@ -134,14 +133,11 @@ def run(args) -> int:
     return 0
 
 
-def _safe(name: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_.+" else "_" for c in name)
-
 
 def _write(args, record, rows, report, has_force) -> list:
-    from ..io.staging import staged_dir, write_json
+    from ..io.staging import safe_name, staged_dir, write_json
 
-    base = _safe(record.name)
+    base = safe_name(record.name)
     written = [f"{base}_compare.json"]
     with staged_dir(args.out) as stage:
         full = dict(report, where={r["file"]: r["where"] for r in rows} if has_force else None)

@@ -39,9 +39,6 @@ def add_parser(sub):
     p.set_defaults(func=run)
 
 
-def _safe(name: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
-
 
 def run(args) -> int:
     from ..catalog import catalog
@@ -89,9 +86,9 @@ def run(args) -> int:
 
 def _write(args, record, diag, lad, report) -> list[str]:
     """Figures and the JSON report, all or nothing (a staging directory)."""
-    from ..io.staging import staged_dir
+    from ..io.staging import safe_name, staged_dir
 
-    base = _safe(record.name)
+    base = safe_name(record.name)
     written = []
     with staged_dir(args.out) as stage:
         with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:

@@ -64,13 +64,13 @@ def run_opensees(args) -> int:
     export = opensees_export(cal.model, cal.named(), args.tag)
     record = read_records([args.check], args)[0] if args.check else None
     script = to_script(export, lang)
-    if record is not None and _check(cal, record, args):
+    if record is not None and _check(cal, export, record, args):
         return 1  # the export failed its check: no script written
     if args.output:
-        tmp = f"{args.output}.partial-{os.getpid()}"
-        with open(tmp, "w") as fh:
+        from ..io.staging import atomic_file
+
+        with atomic_file(args.output) as fh:
             fh.write(script)
-        os.replace(tmp, args.output)
         print(f"wrote {args.output}: model {cal.spec}, damper material {export.tag} "
               f"({'exact' if export.exact else 'approximate: ' + export.note})", file=sys.stderr)
     else:
@@ -78,7 +78,7 @@ def run_opensees(args) -> int:
     return 0
 
 
-def _check(cal, record, args) -> int:
+def _check(cal, export, record, args) -> int:
     """OpenSees against the model on the record's motion; 1 when off its bound.
 
     Both are driven by one consistent motion: the displacement integrated from
@@ -92,7 +92,7 @@ def _check(cal, record, args) -> int:
 
     quiet_opensees()
     d = np.concatenate([[0.0], np.cumsum(0.5 * (record.v[1:] + record.v[:-1]) * np.diff(record.t))])
-    res = check(cal.model, cal.named(), record.t, d, record.v, record.a)
+    res = check(cal.model, cal.named(), record.t, d, record.v, record.a, export=export)
     verdict = "within" if res.ok else "OUTSIDE"
     print(f"check on {record.name}: OF(OpenSees vs model) = {res.of:.3g}, {verdict} the bound {res.bound:.3g} "
           f"({'exact mapping' if res.exact else 'approximation'})", file=sys.stderr)
@@ -121,28 +121,25 @@ def _fmu_check_record(cal, args):
 def run_fmu(args) -> int:
     """Build, validate and check the FMU; nothing is left at -o when a step fails."""
     from ..calibration import Calibration
-    from ..export.fmu import OF_BOUND, build_fmu, simulate, validate
+    from ..export.fmu import OF_BOUND, build_fmu, fmu_forces
+    from ..fit import objective
 
     if not args.output.lower().endswith(".fmu"):
         raise InputError(f"-o {args.output}: the file name must end in .fmu")
-    if args.h_max is not None and not args.h_max > 0:
-        raise InputError(f"--h-max {args.h_max}: must be > 0 s")
     cal = Calibration.load(args.params)
     record = _fmu_check_record(cal, args)
-    tmp = f"{args.output}.partial-{os.getpid()}.fmu"
+    tmp = f"{args.output}.partial-{os.getpid()}.fmu"  # build_fmu writes atomically; moved into place once checked
     try:
         build_fmu(cal, tmp, args.h_max)
-        of_mirror = validate(tmp, cal, record, inputs="dva")
-        of_d = validate(tmp, cal, record, inputs="d")
+        F_model, F_fmu = fmu_forces(tmp, cal, record, ("dva", "d"))
+        of_mirror, of_d = (float(objective(F_model, F, record.t)) for F in (F_fmu["dva"], F_fmu["d"]))
         print(f"check on {record.name}: OF(FMU vs model) = {of_mirror:.3g} with the record's d, v, a "
               f"(bound {OF_BOUND:g}); {of_d:.3g} with d alone (the FMU differentiates d)", file=sys.stderr)
         if of_mirror > OF_BOUND:
             from ..plots.export import check_figure
 
-            F_fmu = simulate(tmp, record, "dva")["F"]
-            base = os.path.splitext(args.output)[0]
-            path = check_figure(record, cal.force(record), F_fmu, f"FMU vs model {cal.spec}: OF {of_mirror:.3g}",
-                                f"{base}_check.png", label="FMU")
+            path = check_figure(record, F_model, F_fmu["dva"], f"FMU vs model {cal.spec}: OF {of_mirror:.3g}",
+                                f"{os.path.splitext(args.output)[0]}_check.png", label="FMU")
             print(f"the FMU misses its bound: see {path}", file=sys.stderr)
             return 1
         os.replace(tmp, args.output)

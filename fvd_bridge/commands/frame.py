@@ -84,7 +84,7 @@ def load_inputs(args):
 
 
 def run(args) -> int:
-    from ..frames.compare import run_cases, series_spread, verdict
+    from ..frames.compare import run_cases
     from ..frames.outputs import format_frame_table, write_frame_outputs
 
     from .common import quiet_opensees
@@ -100,7 +100,7 @@ def run(args) -> int:
              f"{len(cals)} damper model(s) + the bare frame")
     cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress)
     summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures)
-    print(format_frame_table(cases, series_spread(cases), summary["verdict"]))
+    print(format_frame_table(cases, summary["series"], summary["verdict"]))
     print(f"\nwrote {args.out}/ (frame_table.csv, frame_series.csv, frame_summary.json, histories/"
           f"{', figures/' if not args.no_figures else ''})")
     return 0

@@ -199,7 +199,7 @@ def hysteretic_state(code, z0, u, p, zb, hz):
     travels u [mm]: the exact steps of laws 6, 8, 9 (fvd_bridge.laws.steps)
     from z0; law 7 by the series spring's own TR-BDF2 stage (the rule the plain
     law uses too): z + hz q phi(z) = zb + u, zb the stage's known part
-    (``law7_stage``), solved by ``trbdf2.maxwell_solve`` (inside a series
+    (``series_sample``), solved by ``trbdf2.maxwell_solve`` (inside a series
     spring the law's own dashpot may be arbitrarily stiff)."""
     if code == 6:
         A, beta, gamma = law6_constants(p)[3:]
@@ -281,15 +281,17 @@ def element_force(code, p, x, x0, u, z0, zb, hz, r, hf, Ff):
 
 
 @njit(cache=True)
-def series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
-    """R(q) = F_int(x(u), u) - Ks w(u), u = u(q), w(u) = wb - hth u, x = y - w.
+def series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff):
+    """R(q) = F_int(x(u), u) - Ks w(u), u = u(q), w(u) = wb - hth u, x = y - w;
+    law 7's state over the stage: z + hth q phi(z) = zb + (x - x0) (the same
+    stage coefficient hth as the spring's stretch).
 
     R increases with q; returns R, dR/dq (Newton; exact for laws 1-5,
     approximate for 6-9) and u, w, F_o, z."""
     u, dudq = q_to_u(q, a)
     w = wb - hth * u
     x = y - w
-    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, zb, hz, r, hf, Ff)
+    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, zb, hth, r, hf, Ff)
     if code <= 5 and code != 1:
         dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq
     elif code == 1:
@@ -300,7 +302,7 @@ def series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
 
 
 @njit(cache=True)
-def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
+def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff):
     """Solve R(q) = 0 (series_residual, R increasing) for one step.
 
     Newton from ``q_guess`` (secant slopes for laws 6-9); until the signs of
@@ -309,7 +311,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
     Returns u, w, F_o, z at the root."""
     lo, hi = -math.inf, math.inf
     q = q_guess
-    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
+    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff)
     q_prev, R_prev = math.nan, math.nan
     scale = 0.5 * abs(q) + 1e-3
     for _ in range(200):
@@ -324,7 +326,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
                 dR = (R - R_prev) / (q - q_prev)
             else:
                 dq = 1e-7 * (1.0 + abs(q))
-                R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)[0]
+                R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff)[0]
                 dR = (R2 - R) / dq
         step = R / dR if dR > 0.0 else math.nan
         if abs(step) <= 1e-9 * (1.0 + abs(q)):
@@ -340,11 +342,11 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff):
             qn = 0.5 * (lo + hi)
             if hi - lo <= 1e-14 * (1.0 + abs(qn)):
                 q = qn
-                R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
+                R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff)
                 break
         q_prev, R_prev = q, R
         q = qn
-        R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, hz, Ks, r, hf, Ff)
+        R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff)
     return u, w, Fo, z
 
 
@@ -404,17 +406,16 @@ def series_sample(code, p, a, ks, r, theta, Ff, state, y0, y1, v0, v1, a0, a1, d
         hf = heat_factor(theta, W0 + h * pw * J_TO_MJ) if theta != 0.0 else 1.0
         # TR stage to t + g h
         wb = w + tr_g - 0.5 * g * h * u
-        hz = 0.5 * g * h  # law 7's trapezoidal stage: z + hz q phi(z) = z - hz q phi(z0) + travel
-        zb = z - hz * law7_rate(z, p) if code == 7 else 0.0
-        ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, 0.5 * g * h, xl, z, zb, hz, ks, r, hf, Ff)
+        hth = 0.5 * g * h  # law 7's trapezoidal stage: z + hth q phi(z) = z - hth q phi(z0) + travel
+        zb = z - hth * law7_rate(z, p) if code == 7 else 0.0
+        ug, wg, fog, zg = series_step(q + g * dq, a, code, p, yg, wb, hth, xl, z, zb, ks, r, hf, Ff)
         pwg = fog * ug / hf
         # BDF2 stage to t + h
         wb = c_g * wg - c_0 * w + tr_h - c_g * tr_g
         qg = powsign(ug, a) if a != 1.0 else ug
         # law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1)
         zb = c_g * zg - c_0 * z - c_0 * (yg - wg - xl) if code == 7 else 0.0
-        u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg, zb, c_h, ks, r,
-                                     hf, Ff)
+        u1, w1, fo, z1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg, zb, ks, r, hf, Ff)
         pw1 = fo * u1 / hf
         W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
         pw = pw1

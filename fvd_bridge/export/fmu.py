@@ -157,17 +157,15 @@ def calibration_header(root: ET.Element) -> str:
     return "\n".join(lines) + "\n"
 
 
-def validate(fmu_path, calibration, record, inputs: str = "d") -> float:
-    """OF (paper eq. 18) of the FMU's force against the Python model's
-    (``calibration.model.force`` at the FMU's sub-steps per sample) on the
-    record; the FMU driven by FMPy's ``simulate_fmu`` with the record's d
-    (``inputs`` 'd'), d and v ('dv') or d, v and a ('dva'), each sample sent
-    before the step that ends there.  A file FMPy finds problems in is an
-    InputError; the caller compares the OF with OF_BOUND."""
+def fmu_forces(fmu_path, calibration, record, inputs=("d",)) -> tuple[np.ndarray, dict]:
+    """The Python model's force on the record (``calibration.force`` at the
+    FMU's sub-steps per sample) and the FMU's {inputs: force} [kN], the FMU
+    driven by FMPy's ``simulate_fmu`` with the record's d ('d'), d and v
+    ('dv') or d, v and a ('dva'), each sample sent before the step that ends
+    there.  The file is checked by ``fmpy.validate_fmu`` once: a file it finds
+    problems in is an InputError."""
     from fmpy import read_model_description
     from fmpy.validation import validate_fmu
-
-    from ..fit.objective import objective
 
     fmu_path = os.fspath(fmu_path)
     problems = validate_fmu(fmu_path)
@@ -176,9 +174,17 @@ def validate(fmu_path, calibration, record, inputs: str = "d") -> float:
         raise InputError(f"{fmu_path}: not a valid FMU: {problems[0].strip()}{more}")
     md = read_model_description(fmu_path)
     h_max = float(next(v.start for v in md.modelVariables if v.name == "h_max"))
-    F_ref = calibration.model.force(record, calibration.params[None, :], substeps_of(record.dt, h_max))[0]
-    F_fmu = simulate(fmu_path, record, inputs)["F"]
-    return float(objective(F_ref, F_fmu, record.t))
+    F_model = calibration.force(record, substeps_of(record.dt, h_max))
+    return F_model, {i: simulate(fmu_path, record, i, ("F",))["F"] for i in inputs}
+
+
+def validate(fmu_path, calibration, record, inputs: str = "d") -> float:
+    """OF (paper eq. 18) of the FMU's force against the Python model's on the
+    record (``fmu_forces``); the caller compares it with OF_BOUND."""
+    from ..fit.objective import objective
+
+    F_model, F_fmu = fmu_forces(fmu_path, calibration, record, (inputs,))
+    return float(objective(F_model, F_fmu[inputs], record.t))
 
 
 def simulate(fmu_path, record, inputs: str = "d", outputs=("F", "z", "E")) -> dict:

@@ -78,7 +78,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..effects.catalog import FRICTION_V_F, KS_RIGID
+from ..effects.catalog import FRICTION_V_F, KS_RIGID_FROM
 from ..errors import InputError
 from ..model import Model, parse_model
 
@@ -294,7 +294,7 @@ def _active(model, p: dict) -> set:
     on = set()
     for e in model.effects:
         if e.name == "series_stiffness":
-            if p[e.names[0]] < KS_RIGID * (1.0 - 1e-12):
+            if p[e.names[0]] < KS_RIGID_FROM:
                 on.add(e.name)
         elif any(p[n] != off for n, off in zip(e.names, e.none)):
             on.add(e.name)
@@ -337,19 +337,15 @@ def opensees_export(model, params: dict, tag: int = 1) -> Export:
                   hysteretic=number in (6, 9), friction=abs(Ff))
 
 
-def opensees_commands(model, params: dict, tag: int = 1) -> list:
-    """The command tuples of ``opensees_export``: ('uniaxialMaterial', kind, tag, *args)."""
-    return opensees_export(model, params, tag).commands
-
-
 # ------------------------------------------------------------------ output
-def _listed(commands) -> list:
+def listed(commands) -> list:
+    """The command tuples of an Export, or the given list of them."""
     return commands.commands if isinstance(commands, Export) else list(commands)
 
 
 def apply(commands, ops) -> None:
     """Define the commands (or an Export's) in an OpenSees module: ops.<name>(*args)."""
-    for name, *args in _listed(commands):
+    for name, *args in listed(commands):
         getattr(ops, name)(*args)
 
 
@@ -364,16 +360,16 @@ def to_script(commands, lang: str = "py") -> str:
     if isinstance(commands, Export):
         head = [f"# fvd_bridge export of model {commands.model} (kN, mm, s): damper material {commands.tag}",
                 f"# mapping: {commands.note}"]
-    missing = sorted({c[1] for c in _listed(commands) if c[1] in NOT_IN_TCL})
+    missing = sorted({c[1] for c in listed(commands) if c[1] in NOT_IN_TCL})
     if lang == "tcl" and missing:
         head.append(f"# needs {', '.join(missing)}: in OpenSeesPy and OpenSees built on its material table, "
                     f"not in classic Tcl OpenSees")
     if lang == "py":
         lines = head + ["import openseespy.opensees as ops", ""]
-        lines += [f"ops.{name}({', '.join(map(repr, args))})" for name, *args in _listed(commands)]
+        lines += [f"ops.{name}({', '.join(map(repr, args))})" for name, *args in listed(commands)]
     elif lang == "tcl":
         lines = head + [" ".join([name] + [a if isinstance(a, str) else repr(a) for a in args])
-                        for name, *args in _listed(commands)]
+                        for name, *args in listed(commands)]
     else:
         raise InputError(f"script language '{lang}': expected 'py' or 'tcl'")
     return "\n".join(lines) + "\n"

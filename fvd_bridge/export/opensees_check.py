@@ -14,7 +14,7 @@ import numpy as np
 from ..fit.objective import objective
 from ..model import Model, parse_model
 from ..records.record import Record
-from .opensees import apply, opensees_export
+from .opensees import apply, listed, opensees_export
 
 #: materials that integrate over the analysis' global step (ops_Dt in OpenSees)
 GLOBAL_STEP_MATERIALS = ("ViscousDamper",)
@@ -47,16 +47,12 @@ def _set_global_step(ops, dt: float) -> None:
     ops.analyze(1, float(dt))
 
 
-def _commands(commands) -> list:
-    return list(getattr(commands, "commands", commands))
-
-
 def drive_material(commands, tag: int, t, d, v) -> np.ndarray:
     """Force [kN] of material ``tag`` for the strain d [mm] and rate v [mm/s]
     at times t [s] (uniform step): testUniaxialMaterial + setStrain(d, v),
     each step committed.  For a material in GLOBAL_STEP_MATERIALS the global
     step is set to t[1] - t[0] first (``_set_global_step``)."""
-    ops, commands = _ops(), _commands(commands)
+    ops, commands = _ops(), listed(commands)
     _fresh(ops, commands)
     if any(c[0] == "uniaxialMaterial" and c[1] in GLOBAL_STEP_MATERIALS for c in commands):
         _set_global_step(ops, t[1] - t[0])
@@ -75,7 +71,7 @@ def drive_element(commands, tag: int, t, d, integrator: tuple = ("Newmark", 0.5,
     (Penalty constraints): the damper as it runs in a structure, its velocity
     from the integrator (average acceleration by default; ("TRBDF2",) measured
     the same for ViscousDamper and 20% worse for Viscous)."""
-    ops, commands = _ops(), _commands(commands)
+    ops, commands = _ops(), listed(commands)
     _fresh(ops, commands)
     dt = float(t[1] - t[0])
     ops.node(1, 0.0)
@@ -119,15 +115,16 @@ class CheckResult:
         return self.of <= self.bound
 
 
-def check(model, params: dict, t, d, v=None, a=None, element: bool = False, substeps: int = 1) -> CheckResult:
-    """Export ``model`` with ``params`` ({name: value}), drive it with d [mm]
+def check(model, params: dict, t, d, v=None, a=None, element: bool = False, substeps: int = 1,
+          export=None) -> CheckResult:
+    """Export ``model`` with ``params`` ({name: value}) (or take ``export``, its Export), drive it with d [mm]
     at times t [s] (uniform; v [mm/s], a [mm/s^2]: np.gradient when not
     given), and compare with ``model.force`` (``substeps`` per sample) on the
     same history; ``element``: through a zeroLength element (``drive_element``)."""
     model = model if isinstance(model, Model) else parse_model(model)
     t, d = np.asarray(t, dtype=float), np.asarray(d, dtype=float)
     v = np.gradient(d, t) if v is None else np.asarray(v, dtype=float)
-    export = opensees_export(model, params, tag=1)
+    export = export or opensees_export(model, params, tag=1)
     a = np.gradient(v, t) if a is None else np.asarray(a, dtype=float)
     record = Record(t, d, np.zeros_like(t), v, a, name="check")
     F_model = model.force(record, np.array([[params[n] for n in model.names]]), substeps)[0]

@@ -14,12 +14,9 @@ import os
 
 import numpy as np
 
-from ..io.staging import staged_dir, write_csv_rows, write_json
+from ..io.staging import safe_name, staged_dir, write_csv_rows, write_json
 from .compare import QUANTITIES, series_spread, verdict
 
-
-def _safe(name: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_.+" else "_" for c in str(name))
 
 
 def _num(x):
@@ -28,7 +25,8 @@ def _num(x):
 
 
 def write_frame_outputs(out: str, building, motion, cases, figures: bool = True) -> dict:
-    """Write the tables, histories and figures; returns the summary dict."""
+    """Write the tables, histories and figures; returns the summary dict (its
+    'series' the spread over the devices, its 'verdict' the verdict's text)."""
     spread = series_spread(cases)
     text = verdict(spread)
     with staged_dir(out) as stage:
@@ -53,7 +51,8 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True)
             if c.result is None or c.result.damper_deformation is None:
                 continue
             for k in range(c.result.damper_deformation.shape[1]):
-                write_csv_rows(os.path.join(hist, f"{_safe(c.device)}_law{_safe(c.spec)}_story{k + 1}.csv"), ["t", "d"],
+                name = f"{safe_name(c.device)}_law{safe_name(c.spec)}_story{k + 1}.csv"
+                write_csv_rows(os.path.join(hist, name), ["t", "d"],
                                [[f"{t:.6g}", f"{d:.9g}"] for t, d in zip(c.result.t, c.result.damper_deformation[:, k])])
         summary = {"building": building.name, "motion": motion.name, "motion_source": motion.source,
                    "pga_g": motion.pga_g, "cases": [{"label": c.label, "model": c.spec, "device": c.device,
@@ -61,7 +60,7 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True)
                                                      "exceeded": c.exceeded, "limits": c.limits,
                                                      "response": c.result.summary() if c.result else None}
                                                     for c in cases],
-                   "series": {s: {k: v for k, v in d.items()} for s, d in spread.items()}, "verdict": text}
+                   "series": spread, "verdict": text}
         write_json(os.path.join(stage, "frame_summary.json"), summary)
         if figures:
             from ..plots import frames as figs

@@ -12,7 +12,6 @@ import json
 import os
 import shutil
 
-import yaml
 
 
 @contextlib.contextmanager
@@ -40,10 +39,20 @@ def staged_dir(out: str):
     shutil.rmtree(stage, ignore_errors=True)
 
 
-def write_yaml(path: str, data) -> None:
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w") as fh:
-        yaml.safe_dump(data, fh, sort_keys=False, width=100)
+@contextlib.contextmanager
+def atomic_file(path: str, mode: str = "w"):
+    """Yield a file handle whose content replaces ``path`` only when the block
+    succeeds (a temporary file beside it, renamed into place); on an error
+    nothing is left behind."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = f"{path}.partial-{os.getpid()}"
+    try:
+        with open(tmp, mode) as fh:
+            yield fh
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
 
 
 def write_json(path: str, data) -> None:
@@ -56,3 +65,9 @@ def write_csv_rows(path: str, header: list, rows: list) -> None:
         w = csv.writer(fh)
         w.writerow(header)
         w.writerows(rows)
+
+
+def safe_name(name: str) -> str:
+    """A file-name part from a device or model name: anything but letters,
+    digits and - _ . + becomes _."""
+    return "".join(c if c.isalnum() or c in "-_.+" else "_" for c in str(name))
