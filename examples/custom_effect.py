@@ -11,8 +11,9 @@ it), its stage and a vectorized function of the whole population:
   stage 'input':     fn(P, d, v, a, dt) -> (x, xv, xa), the motion the law sees
 
 P is (population, parameters); t [s] is (n_t,); x [mm], xv [mm/s], xa
-[mm/s^2] are (1 or population, n_t): the damper body's motion (d, v, a
-unless a gap is in the model).  Return (population, n_t) or broadcastable.
+[mm/s^2] are (1 or population, n_t): the pin's motion (d, v, a; a user's
+parallel effect stays outside a gap or series spring).  Return
+(population, n_t) or broadcastable.
 
 This file adds Stribeck (breakaway) friction: seals stick harder at low
 sliding speed than at high speed.  Once loaded it is calibrated, diagnosed

@@ -53,10 +53,9 @@ typedef struct {
     int32_t law;                 /* the law's number, 1-9 */
     /* the damper between communication points: model_history's loop variables */
     double s_law[N_LAW_STATE];   /* the law's state (laws.scalar.new_state) */
-    double spring[N_SPRING];     /* the series spring's state (effects.steps.series_rest) */
-    double rel;                  /* gap: the pin's position relative to the body [mm] */
+    double spring[N_SPRING];     /* the connection's state: series spring and gap (effects.steps.series_rest) */
     double W0, power;            /* heating: energy of the unsoftened law [MJ], its last power [kN mm/s] */
-    double x0, xv0, xa0;         /* the body's motion at the last sample [mm, mm/s, mm/s^2] */
+    double x0, xv0, xa0;         /* the pin's motion at the last sample [mm, mm/s, mm/s^2] */
     double d_last[2], v_last[2]; /* the pin's d [mm], v [mm/s] at the last two samples */
     double h_last;               /* the last communication step [s] */
     double Fv_last;              /* F v at the last sample [kN mm/s] (energy) */

@@ -363,30 +363,6 @@ static double inertia_term(double m, double xa) {
     return m * 1e-6 * xa;
 }
 
-static double play_step(double rel, double u, double half) {
-    rel += u;
-    if (rel > half) return half;
-    if (rel < -half) return -half;
-    return rel;
-}
-
-static double play_half(double g) {
-    return 0.5 * fmax(g, 0.0);
-}
-
-static double play_advance(double rel, double half, double v0, double v1, double dt) {
-    double u1, u2;
-    split_travel(v0, v1, dt, &u1, &u2);
-    return play_step(play_step(rel, u1, half), u2, half);
-}
-
-static void play_motion(double rel, double half, double d, double v, double acc, double *x, double *xv, double *xa) {
-    const bool contact = (v > 0.0 && rel >= half) || (v < 0.0 && rel <= -half);
-    *x = d - rel;
-    *xv = contact ? v : 0.0;
-    *xa = contact ? acc : 0.0;
-}
-
 static double heat_energy(double W0, double p0, double p1, double dt) {
     return W0 + 0.5 * dt * (p0 + p1) * J_TO_MJ;
 }
@@ -491,33 +467,75 @@ static void element_force(int code, const double *p, double x, double x0, double
     *dFo_dx = hf * A * dFdx;
 }
 
+static double hermite_travel(double s, double h, double v0, double v1, double a0, double a1) {
+    const double s2 = s * s, s3 = s2 * s, s4 = s3 * s;
+    return h * ((0.5 * s4 - s3 + s) * v0 + (0.25 * s4 - 2.0 * s3 / 3.0 + 0.5 * s2) * h * a0
+                + (-0.5 * s4 + s3) * v1 + (0.25 * s4 - s3 / 3.0) * h * a1);
+}
+
+static double gap_half(double g) {
+    return 0.5 * fmax(g, 0.0);
+}
+
+static double dead_zone(double w, double half, double *slope) {
+    if (half == 0.0) {
+        *slope = 1.0;
+        return w;
+    }
+    if (w > half) {
+        *slope = 1.0;
+        return w - half;
+    }
+    if (w < -half) {
+        *slope = 1.0;
+        return w + half;
+    }
+    *slope = 0.0;
+    return 0.0;
+}
+
+static double gap_side(double w, double half) {
+    if (w >= half) return 1.0;
+    if (w <= -half) return -1.0;
+    return 0.0;
+}
+
+static double linear_travel(double f, double dt, double v0, double v1) {
+    return dt * f * (v0 + 0.5 * (v1 - v0) * f);
+}
+
 /* series_residual's tuple (R, dR/dq, u, w, F_o, z) */
 typedef struct { double R, dR, u, w, Fo, z; } Residual;
 
 static Residual series_residual(double q, double a, int code, const double *p, double y, double wb, double hth,
-                                double x0, double z0, double zb, double Ks, double r, double hf, double Ff) {
+                                double x0, double z0, double zb, double Ks, double half, double r, double hf,
+                                double Ff, double Kp, double F0) {
     Residual res;
-    double dudq, Fi, Fo, z, dfric, dFdx;
+    double dudq, Fi, Fo, z, dfric, dFdx, ds;
     q_to_u(q, a, &res.u, &dudq);
     res.w = wb - hth * res.u;
     const double x = y - res.w;
     element_force(code, p, x, x0, res.u, z0, zb, hth, r, hf, Ff, &Fi, &Fo, &z, &dfric, &dFdx);
+    if (Kp != 0.0 || F0 != 0.0) Fi = Fi + parallel_spring(Kp, F0, x);
+    const double s = dead_zone(res.w, half, &ds);
+    const double kd = Ks * ds;
     if (code <= 5 && code != 1) {
-        res.dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + Ks * hth) * dudq;
+        res.dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + (Kp + kd) * hth) * dudq;
     } else if (code == 1) {
-        res.dR = (hf * asymmetry_factor(Fo, r) * p[0] + dfric + Ks * hth) * dudq;
+        res.dR = (hf * asymmetry_factor(Fo, r) * p[0] + dfric + (Kp + kd) * hth) * dudq;
     } else {
         res.dR = 0.0;  /* estimated by the solver from a secant */
     }
-    res.R = Fi - Ks * res.w;
+    res.R = Fi - Ks * s;
     res.Fo = Fo;
     res.z = z;
     return res;
 }
 
 static Residual series_step(double q_guess, double a, int code, const double *p, double y, double wb, double hth,
-                            double x0, double z0, double zb, double Ks, double r, double hf, double Ff) {
-#define RESIDUAL(qq) series_residual(qq, a, code, p, y, wb, hth, x0, z0, zb, Ks, r, hf, Ff)
+                            double x0, double z0, double zb, double Ks, double half, double r, double hf, double Ff,
+                            double Kp, double F0) {
+#define RESIDUAL(qq) series_residual(qq, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0)
     double lo = -INFINITY, hi = INFINITY;
     double q = q_guess;
     Residual res = RESIDUAL(q);
@@ -568,10 +586,33 @@ static Residual series_step(double q_guess, double a, int code, const double *p,
 #undef RESIDUAL
 }
 
-static double hermite_travel(double s, double h, double v0, double v1, double a0, double a1) {
-    const double s2 = s * s, s3 = s2 * s, s4 = s3 * s;
-    return h * ((0.5 * s4 - s3 + s) * v0 + (0.25 * s4 - 2.0 * s3 / 3.0 + 0.5 * s2) * h * a0
-                + (-0.5 * s4 + s3) * v1 + (0.25 * s4 - s3 / 3.0) * h * a1);
+/* series_stage's tuple (u, w, F_o, z, F) as a Residual: R holds F */
+static Residual series_stage(double q_guess, double a, int code, const double *p, double y, double wb, double hth,
+                             double x0, double z0, double zb, double Ks, double half, double r, double hf, double Ff,
+                             double Kp, double F0) {
+    Residual res;
+    double ds;
+    if (!isinf(Ks)) {
+        res = series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0);
+        res.R = Ks * dead_zone(res.w, half, &ds);
+        return res;
+    }
+    const double first = wb >= 0.0 ? 1.0 : -1.0;  /* the side the connection leans to first */
+    for (int i = 0; i < 2; i++) {
+        const double side = i == 0 ? first : -first;
+        const double u = (wb - side * half) / hth;
+        const double q = a != 1.0 ? powsign(u, a) : u;
+        res = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, 0.0, half, r, hf, Ff, Kp, F0);
+        if (side * res.R > 0.0) {
+            res.u = u;
+            res.w = side * half;
+            return res;
+        }
+    }
+    res = series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, 0.0, half, r, hf, Ff, Kp, F0);
+    res.w = fmin(fmax(res.w, -half), half);
+    res.R = 0.0;
+    return res;
 }
 
 enum { SW, SU, SZ, SW0, SPW, SXL, SQ, SDQ };  /* series_sample's state (w, u, z, W0, pw, x_o, q, dq) */
@@ -581,63 +622,144 @@ static void series_rest(double x0, double *state) {
     state[SXL] = x0;
 }
 
-static void series_sample(int code, const double *p, double a, double ks, double r, double theta, double Ff,
-                          double *state, double y0, double y1, double v0, double v1, double a0, double a1,
-                          double dt, int substeps, double *F, double *F_o) {
-    double w = state[SW], u = state[SU], z = state[SZ], W0 = state[SW0], pw = state[SPW], xl = state[SXL];
-    double q = state[SQ], dq = state[SDQ];
-    const double h = dt / substeps;
+/* one TR-BDF2 step from the fraction fa to fb of the sample step: state in place, returns F_o, *F the force */
+static double series_advance(int code, const double *p, double a, double ks, double half, double r, double theta,
+                             double Ff, double Kp, double F0, double *state, double y0, double y1, double v0,
+                             double v1, double a0, double a1, double dt, double fa, double fb, double h, bool jump,
+                             double *F) {
+    const double w = state[SW], u = state[SU], z = state[SZ], pw = state[SPW], xl = state[SXL];
+    const double q = state[SQ], dq = state[SDQ];
+    double W0 = state[SW0];
     const double g = TRBDF2_GAMMA;  /* trapezoidal rule to t + g h, then BDF2 (L-stable) */
     const double c_g = 1.0 / (g * (2.0 - g));
     const double c_0 = (1.0 - g) * (1.0 - g) / (g * (2.0 - g));
     const double c_h = (1.0 - g) / (2.0 - g) * h;
-    double fo = 0.0;
+    const double fg = fa + g * (fb - fa);
+    double ya, tr_g, tr_h;
+    if (half > 0.0) {
+        /* with a gap the pin's travel by the law's own rule (TR-BDF2 on w' = v - u, v linear) */
+        ya = y0 + linear_travel(fa, dt, v0, v1);
+        tr_g = 0.5 * g * h * ((v0 + (v1 - v0) * fa) + (v0 + (v1 - v0) * fg));
+        tr_h = c_g * tr_g + c_h * (v0 + (v1 - v0) * fb);
+    } else if (jump) {
+        ya = y0 + (y1 - y0) * fa;
+        tr_g = (y1 - y0) * (fg - fa);
+        tr_h = (y1 - y0) * (fb - fa);
+    } else {
+        const double base = hermite_travel(fa, dt, v0, v1, a0, a1);
+        ya = fa > 0.0 ? y0 + base : y0;
+        tr_g = hermite_travel(fg, dt, v0, v1, a0, a1) - base;
+        tr_h = hermite_travel(fb, dt, v0, v1, a0, a1) - base;
+    }
+    const double yg = ya + tr_g;
+    const double yb = ((jump && half == 0.0) || fb >= 1.0) ? y0 + (y1 - y0) * fb : ya + tr_h;
+    const double hf = theta != 0.0 ? heat_factor(theta, W0 + h * pw * J_TO_MJ) : 1.0;
+    /* TR stage to t + g h */
+    double wb = w + tr_g - 0.5 * g * h * u;
+    const double hth = 0.5 * g * h;  /* law 7's trapezoidal stage: z + hth q phi(z) = z - hth q phi(z0) + travel */
+    double zb = code == 7 ? z - hth * law7_rate(z, p) : 0.0;
+    const Residual sg = series_stage(q + g * dq, a, code, p, yg, wb, hth, xl, z, zb, ks, half, r, hf, Ff, Kp, F0);
+    const double pwg = sg.Fo * sg.u / hf;
+    /* BDF2 stage to t + h */
+    wb = c_g * sg.w - c_0 * w + tr_h - c_g * tr_g;
+    const double qg = a != 1.0 ? powsign(sg.u, a) : sg.u;
+    /* law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1) */
+    zb = code == 7 ? c_g * sg.z - c_0 * z - c_0 * (yg - sg.w - xl) : 0.0;
+    const Residual s1 = series_stage(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - sg.w, sg.z, zb, ks, half,
+                                     r, hf, Ff, Kp, F0);
+    const double pw1 = s1.Fo * s1.u / hf;
+    W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ;
+    const double q1 = a != 1.0 ? powsign(s1.u, a) : s1.u;
+    state[SW] = s1.w; state[SU] = s1.u; state[SZ] = s1.z; state[SW0] = W0; state[SPW] = pw1;
+    state[SXL] = yb - s1.w;
+    state[SQ] = q1;
+    state[SDQ] = q1 - q;  /* linear extrapolation of the next step's guess */
+    *F = s1.R;
+    return s1.Fo;
+}
+
+#define CONTACT_EDGE 1e-6
+#define CONTACT_SPLITS 4
+#define CONTACT_PIECES 4
+
+static double contact_fraction(int code, const double *p, double a, double half, double r, double theta, double Ff,
+                               double Kp, double F0, const double *state, double w1, double y0, double y1, double v0,
+                               double v1, double a0, double a1, double dt, double fa, double fb, bool jump) {
+    double trial[N_SPRING], F;
+    const double w0 = state[SW];
+    const double side = gap_side(w1, half);
+    if (side == 0.0 || side == gap_side(w0, half)) return 0.0;
+    if (gap_side(w0, half) != 0.0) return 0.5;
+    double lo = 0.0, f_lo = side * w0 - half, hi = 1.0;
+    memcpy(trial, state, sizeof(trial));
+    series_advance(code, p, a, 0.0, half, r, theta, Ff, Kp, F0, trial, y0, y1, v0, v1, a0, a1, dt, fa, fb,
+                   (fb - fa) * dt, jump, &F);
+    double f_hi = side * trial[SW] - half;
+    if (!(f_hi > 0.0)) return 0.0;  /* the free motion reaches h only at the end (to rounding) */
+    double s = 1.0;
+    int last = 0;
+    for (int i = 0; i < 40; i++) {
+        s = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        const double f = fa + (fb - fa) * s;
+        memcpy(trial, state, sizeof(trial));
+        series_advance(code, p, a, 0.0, half, r, theta, Ff, Kp, F0, trial, y0, y1, v0, v1, a0, a1, dt, fa, f,
+                       (f - fa) * dt, jump, &F);
+        const double f_s = side * trial[SW] - half;
+        if (f_s > 0.0) {
+            hi = s;
+            f_hi = f_s;
+            if (last == 1) f_lo *= 0.5;  /* Illinois: the end kept twice is halved */
+            last = 1;
+        } else {
+            lo = s;
+            f_lo = f_s;
+            if (last == -1) f_hi *= 0.5;
+            last = -1;
+        }
+        if (fabs(f_s) <= 1e-12 * (1.0 + half) || hi - lo <= 1e-12) break;
+    }
+    if (s < CONTACT_EDGE || s > 1.0 - CONTACT_EDGE) return 0.0;
+    return s;
+}
+
+static void series_sample(int code, const double *p, double a, double ks, double half, double r, double theta,
+                          double Ff, double Kp, double F0, double *state, double y0, double y1, double v0, double v1,
+                          double a0, double a1, double dt, int substeps, double *F, double *F_o) {
+    const double h = dt / substeps;
+    double fo = 0.0, f = 0.0;
     const bool jump = (v0 == 0.0) != (v1 == 0.0);
     for (int j = 0; j < substeps; j++) {
         const double f0 = (double)j / substeps, f1 = (double)(j + 1) / substeps;
-        const double fg = f0 + g * (f1 - f0);
-        double ya, tr_g, tr_h;
-        if (jump) {
-            ya = y0 + (y1 - y0) * f0;
-            tr_g = (y1 - y0) * (fg - f0);
-            tr_h = (y1 - y0) * (f1 - f0);
-        } else {
-            const double base = hermite_travel(f0, dt, v0, v1, a0, a1);
-            ya = j > 0 ? y0 + base : y0;
-            tr_g = hermite_travel(fg, dt, v0, v1, a0, a1) - base;
-            tr_h = hermite_travel(f1, dt, v0, v1, a0, a1) - base;
+        if (half == 0.0) {
+            fo = series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0, a1, dt, f0,
+                                f1, h, jump, &f);
+            continue;
         }
-        const double yg = ya + tr_g;
-        const double yb = (jump || j == substeps - 1) ? y0 + (y1 - y0) * f1 : ya + tr_h;
-        const double hf = theta != 0.0 ? heat_factor(theta, W0 + h * pw * J_TO_MJ) : 1.0;
-        /* TR stage to t + g h */
-        double wb = w + tr_g - 0.5 * g * h * u;
-        const double hth = 0.5 * g * h;  /* law 7's trapezoidal stage: z + hth q phi(z) = z - hth q phi(z0) + travel */
-        double zb = code == 7 ? z - hth * law7_rate(z, p) : 0.0;
-        const Residual sg = series_step(q + g * dq, a, code, p, yg, wb, hth, xl, z, zb, ks, r, hf, Ff);
-        const double pwg = sg.Fo * sg.u / hf;
-        /* BDF2 stage to t + h */
-        wb = c_g * sg.w - c_0 * w + tr_h - c_g * tr_g;
-        const double qg = a != 1.0 ? powsign(sg.u, a) : sg.u;
-        /* law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1) */
-        zb = code == 7 ? c_g * sg.z - c_0 * z - c_0 * (yg - sg.w - xl) : 0.0;
-        const Residual s1 = series_step(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - sg.w, sg.z, zb, ks, r,
-                                        hf, Ff);
-        fo = s1.Fo;
-        const double pw1 = fo * s1.u / hf;
-        W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ;
-        pw = pw1;
-        xl = yb - s1.w;
-        u = s1.u;
-        w = s1.w;
-        z = s1.z;
-        const double q1 = a != 1.0 ? powsign(u, a) : u;
-        dq = q1 - q;  /* linear extrapolation of the next step's guess */
-        q = q1;
+        double fa = f0;
+        int pieces = 0;
+        while (fa < f1) {
+            double fb = f1;
+            double next[N_SPRING];
+            memcpy(next, state, sizeof(next));
+            fo = series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, next, y0, y1, v0, v1, a0, a1, dt, fa,
+                                fb, (fb - fa) * dt, jump, &f);
+            if (pieces < CONTACT_PIECES) {
+                for (int i = 0; i < CONTACT_SPLITS; i++) {
+                    const double s = contact_fraction(code, p, a, half, r, theta, Ff, Kp, F0, state, next[SW], y0,
+                                                      y1, v0, v1, a0, a1, dt, fa, fb, jump);
+                    if (s == 0.0) break;
+                    fb = fa + (fb - fa) * s;
+                    memcpy(next, state, sizeof(next));
+                    fo = series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, next, y0, y1, v0, v1, a0, a1,
+                                        dt, fa, fb, (fb - fa) * dt, jump, &f);
+                }
+            }
+            memcpy(state, next, sizeof(next));
+            fa = fb;
+            pieces++;
+        }
     }
-    state[SW] = w; state[SU] = u; state[SZ] = z; state[SW0] = W0; state[SPW] = pw; state[SXL] = xl;
-    state[SQ] = q; state[SDQ] = dq;
-    *F = ks * w;
+    *F = f;
     *F_o = fo;
 }
 
@@ -657,6 +779,11 @@ static void law_sample(int code, const double *k, double *s, double v0, double v
 static const int LAW_FIRST[10] = {0, vr_law1_C, vr_law2_C, vr_law3_C, vr_law4_C, vr_law5_C, vr_law6_C, vr_law7_C,
                                   vr_law8_C, vr_law9_C};
 
+/* compose._open_rows: a closed gap (g <= 0) or a rigid spring is the model without it */
+static bool gap_on(const ModelData *m) {
+    return m->flag[vr_gap_enabled] && m->value[vr_gap_g] > 0.0;
+}
+
 static bool series_on(const ModelData *m) {
     return m->flag[vr_series_stiffness_enabled] && !(m->value[vr_series_stiffness_Ks] >= KS_RIGID_FROM);
 }
@@ -668,36 +795,36 @@ static double model_history_sample(ModelData *m, bool first, double d, double v,
     const double *p_law = &m->value[LAW_FIRST[code]];
     const double *p_eff = &m->value[vr_gap_g];
     const bool *flags = &m->flag[vr_gap_enabled];
+    const bool gap = gap_on(m);
     const bool series = series_on(m);
-    /* inside the spring an absent effect is its 'off' value (as compose._series) */
+    const bool connected = gap || series;
+    const double ks = series ? p_eff[KS] : INFINITY;  /* a gap alone: a rigid contact */
+    const double half = gap ? gap_half(p_eff[G]) : 0.0;
+    /* inside the connection an absent effect is its 'off' value (as compose._connection) */
     const double r = flags[ASYMMETRY] ? p_eff[R] : 0.0;
     const double theta = flags[THERMAL] ? p_eff[THETA] : 0.0;
     const double Ff = flags[FRICTION] ? p_eff[FF] : 0.0;
-    const double half = play_half(p_eff[G]);
+    const bool behind = gap && flags[PARALLEL];  /* the accumulator behind the clearance (compose.BEHIND_GAP) */
+    const double kp = behind ? p_eff[KP] : 0.0;
+    const double f0 = behind ? p_eff[F0] : 0.0;
     const double h = dt / substeps;
-    double k_law[6], x, xv, xa, f, fo;
+    const double x = d, xv = v, xa = a;
+    double k_law[6], f, fo;
     law_constants(code, p_law, h, k_law);
-    /* 1. input: the damper body's motion */
-    if (flags[GAP]) {
-        if (!first) m->rel = play_advance(m->rel, half, m->v_last[0], v, dt);
-        play_motion(m->rel, half, d, v, a, &x, &xv, &xa);
-    } else {
-        x = d; xv = v; xa = a;
-    }
-    if (series) {
-        /* 2. the spring, with the law and the element effects inside */
+    if (connected) {
+        /* 1. the connection, with the law and the element effects inside */
         if (first) {
             series_rest(x, m->spring);
             f = 0.0;
         } else {
-            series_sample(code, p_law, law_exponent(code, p_law), p_eff[KS], r, theta, Ff, m->spring,
+            series_sample(code, p_law, law_exponent(code, p_law), ks, half, r, theta, Ff, kp, f0, m->spring,
                           m->x0, x, m->xv0, xv, m->xa0, xa, dt, substeps, &f, &fo);
         }
     } else {
-        /* 2. the law */
+        /* 1. the law */
         if (!first) law_sample(code, k_law, m->s_law, m->xv0, xv, h, substeps);
         f = force(code, k_law, m->s_law, x, xv);
-        /* 3. output */
+        /* 2. output */
         if (flags[ASYMMETRY]) f = f * asymmetry_factor(f, r);
         if (flags[THERMAL]) {
             const double p1 = f * xv;
@@ -707,11 +834,11 @@ static double model_history_sample(ModelData *m, bool first, double d, double v,
             }
             m->power = p1;
         }
-        /* 4. parallel: friction on the law's velocity (inside the spring with one) */
+        /* 3. parallel: friction on the law's velocity (inside the connection with one) */
         if (flags[FRICTION]) f = f + friction_term(Ff, xv);
     }
-    /* 4. parallel */
-    if (flags[PARALLEL]) f = f + parallel_spring(p_eff[KP], p_eff[F0], x);
+    /* 3. parallel */
+    if (flags[PARALLEL] && !behind) f = f + parallel_spring(p_eff[KP], p_eff[F0], x);
     if (flags[INERTIA]) f = f + inertia_term(p_eff[MASS], xa);
     m->x0 = x; m->xv0 = xv; m->xa0 = xa;
     return f;
@@ -721,9 +848,9 @@ static double model_history_sample(ModelData *m, bool first, double d, double v,
 
 static const char *const NAME[N_VR] = VARIABLE_NAMES;
 
-/* the law's internal variable z at the last sample (0 for laws 1-5 without a spring) */
+/* the law's internal variable z at the last sample (0 for laws 1-5 without a connection) */
 static double internal_state(const ModelData *m) {
-    if (series_on(m)) return m->spring[SZ];
+    if (gap_on(m) || series_on(m)) return m->spring[SZ];
     if (m->law == 7) return m->s_law[RHS] != 0.0 ? copysign(exp(m->s_law[LAM]), m->s_law[RHS]) : 0.0;
     if (m->law >= 6) return m->s_law[Z];
     return 0.0;
@@ -836,7 +963,7 @@ Status initializeModel(ModelInstance *comp) {
     const double a = m->flag[vr_use_acceleration_input] ? m->value[vr_a] : 0.0;
     new_state(m->law, m->s_law);
     series_rest(0.0, m->spring);
-    m->rel = 0.0; m->W0 = 0.0; m->power = 0.0;
+    m->W0 = 0.0; m->power = 0.0;
     m->x0 = 0.0; m->xv0 = 0.0; m->xa0 = 0.0;
     const double F = model_history_sample(m, true, d, v, a, m->value[vr_h_max], 1);
     m->d_last[0] = m->d_last[1] = d;

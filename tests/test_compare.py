@@ -12,9 +12,8 @@ from conftest import CLI, cli_env
 @pytest.fixture(scope="module")
 def fitted(tmp_path_factory):
     """Laws 1 and 2 calibrated on a paper-protocol test of a law-2 device; an acceptance test
-    of the same device (lab-like CSVs: t,d,F, velocity derived; force noise only: with
-    displacement noise the velocity derived near reversals puts the exact law 2 at 4-5x the
-    force-noise floor, which the floor does not count yet -- diagnose's input-noise work)."""
+    of the same device (lab-like CSVs: t,d,F, velocity derived, 1 kN force noise and the
+    rig's default 0.005 mm displacement noise)."""
     from fvd_bridge import calibrate, read_record
     from fvd_bridge.rig import Device, Noise, acceptance, paper, write_series
 
@@ -35,7 +34,8 @@ def compare(*args, cwd=None):
 
 
 def test_the_exact_model_generalises_and_law1_does_not(fitted, tmp_path):
-    from fvd_bridge.fit import noise_floor
+    from fvd_bridge.calibration import Calibration
+    from fvd_bridge.diagnose.floor import input_noise_floor
     from fvd_bridge.records import read_record
 
     root, files, _, other = fitted
@@ -44,8 +44,10 @@ def test_the_exact_model_generalises_and_law1_does_not(fitted, tmp_path):
     report = json.loads(res.stdout)
     assert report["record"] == other and [m["model"] for m in report["models"]] == ["2", "1"]
     of = {m["model"]: m["of"] for m in report["models"]}
-    floor = noise_floor(1.0, read_record(other).F)  # the true force noise: 1 kN
-    assert of["2"] < 2.5 * floor and of["1"] > 5 * of["2"]
+    cal = Calibration.load(files[1])
+    # the floor of the record: its force and displacement noise through the model
+    floor = input_noise_floor(cal.model, cal.params, read_record(other))["floor"]
+    assert of["2"] < 1.5 * floor and of["1"] > 5 * of["2"]
     assert (tmp_path / "c" / "dev_compare.png").is_file()
     text = compare(*files, other, "--window", "1,6", "--out", str(tmp_path / "w")).stdout
     assert "generalises best: 2" in text and "where 1 fails" in text

@@ -1,10 +1,11 @@
-"""diagnose: on virtual-rig records with one planted effect the effect is
-ranked first and brings the model to the noise floor; with none, nothing is
-suggested; the ladder finds two planted effects and stops; a plugin effect is
-calibrated and ranked; the CLI's JSON, figures and bad input."""
+"""diagnose on lab-like rig records (t,d,F read back, velocity derived): the
+ladder finds two planted effects and stops; a plugin effect is calibrated
+and ranked; where the model fails; the CLI's JSON, figures and bad input.
+(Each planted effect alone, and no effect: tests/test_diagnose_lab.py.)"""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -19,22 +20,20 @@ from fvd_bridge.fit import fit_model
 from fvd_bridge.catalog import catalog
 from fvd_bridge.records import Record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device, Noise, acceptance, simulate
+from fvd_bridge.rig import Device, acceptance
+from lab import lab_record
 
 C, ALPHA = 45.4, 0.3
 #: small optimizer settings: DE population per parameter, generations, polish evaluations
 SETTINGS = diagnose_settings(8, 60, 600)
-#: one planted effect each, sized like real devices but clearly above 1 kN of noise
+#: planted effects, clearly above 1 kN of force noise and 0.005 mm of displacement noise
 PLANTED = {
-    "series_stiffness": dict(Ks=50.0),
-    "friction": dict(friction=20.0),
-    "thermal_softening": dict(heating=1.5),
-    "gap": dict(gap=1.0),
-    "asymmetry": dict(asymmetry=0.08),
-    "parallel_stiffness": dict(Kp=1.5, preload=8.0),
-    "inertia": dict(mass=2000.0),
+    "friction": dict(friction=60.0),
+    "thermal_softening": dict(heating=3.0),
+    "gap": dict(gap=2.5),
+    "asymmetry": dict(asymmetry=0.12),
 }
-SEVEN = tuple(PLANTED)
+SEVEN = ("gap", "series_stiffness", "asymmetry", "thermal_softening", "friction", "parallel_stiffness", "inertia")
 
 
 @pytest.fixture(scope="module")
@@ -43,39 +42,19 @@ def protocol():
     return acceptance(dt=0.005, cycles=2)
 
 
-def rig_record(protocol, name="none", seed=11, **params) -> Record:
-    return simulate(Device(C=C, alpha=ALPHA, **params), protocol, Noise(1.0), seed=seed, name=name)
+@pytest.fixture(scope="module")
+def lab_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("lab")
 
 
-@pytest.mark.parametrize("name", SEVEN)
-def test_planted_effect_is_found_and_reaches_the_noise_floor(protocol, name):
-    rec = rig_record(protocol, name, **PLANTED[name])
-    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
-    top = diag.candidates[0]
-    assert [c.effect for c in diag.candidates].count(name) == 1 and len(diag.candidates) == 7
-    assert top.effect == name, format_diagnosis(diag)
-    assert top.significant and diag.best is top
-    assert top.of <= 0.5 * diag.of  # the OF falls by at least half
-    assert top.of <= 2.0 * diag.floor  # and ends at the noise floor
-    assert name in diag.verdict() and ":" in diag.verdict()  # "symptom: cause; add NAME"
-    report = diag.as_dict()
-    assert report["candidates"][0]["effect"] == name
-    assert 0.5 <= report["candidates"][0]["improvement"] < 1.0
+def rig_record(protocol, folder, name="none", seed=11, **params) -> Record:
+    """A lab-like record (CSV t,d,F read back, velocity derived; 1 kN force and
+    0.005 mm displacement noise) of the rig's law-2 orifice with ``params``."""
+    return lab_record(Device(C=C, alpha=ALPHA, **params), protocol, 1.0, 0.005, seed, folder, name=name)
 
 
-def test_no_hidden_effect_nothing_suggested(protocol):
-    rec = rig_record(protocol)
-    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
-    assert diag.at_floor and diag.suggestions == [] and diag.best is None
-    assert diag.verdict().startswith("nothing left to explain")
-    assert diag.as_dict()["candidates"] == []
-    assert len(diag.candidates) == 7  # every effect was still refitted and ranked
-    text = format_diagnosis(diag)
-    assert "nothing left to explain" in text and "suggestion:" not in text
-
-
-def test_ladder_finds_two_planted_effects_and_stops(protocol):
-    rec = rig_record(protocol, "two", friction=20.0, heating=1.5)
+def test_ladder_finds_two_planted_effects_and_stops(protocol, lab_dir):
+    rec = rig_record(protocol, lab_dir, "two", friction=60.0, heating=3.0)
     lad = climb(rec, "2", seed=0, settings=SETTINGS)
     added = [r.spec.split("+")[-1] for r in lad.rungs[1:]]
     assert sorted(added) == ["friction", "thermal_softening"], format_ladder(lad)
@@ -84,20 +63,20 @@ def test_ladder_finds_two_planted_effects_and_stops(protocol):
     assert ofs == sorted(ofs, reverse=True) and all(r.improvement > 0.2 for r in lad.rungs[1:])
     assert ofs[-1] <= 2.0 * lad.final.floor
     p = lad.rungs[-1].params
-    assert p["friction.Ff"] == pytest.approx(20.0, rel=0.1)
-    assert p["thermal_softening.theta"] == pytest.approx(1.5, rel=0.2)
+    assert p["friction.Ff"] == pytest.approx(60.0, rel=0.1)
+    assert p["thermal_softening.theta"] == pytest.approx(3.0, rel=0.2)
     assert "ladder" in format_ladder(lad) and "stopped" in format_ladder(lad)
 
 
 
 
-def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path):
+def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path, lab_dir):
     path = tmp_path / "my_effect.py"
     path.write_text(PLUGIN)
     cat = catalog([str(path)])
-    base = rig_record(protocol, "cubic")
+    base = rig_record(protocol, lab_dir, "cubic")
     K3 = 0.004  # 32 kN at 20 mm
-    rec = Record(base.t, base.d, base.F + K3 * base.d ** 3, base.v, base.a, name="cubic")
+    rec = dataclasses.replace(base, F=base.F + K3 * base.d ** 3, name="cubic")  # its derived v kept
     diag = diagnose(rec, "2", seed=0, settings=SETTINGS, catalog=cat)
     assert diag.candidates[0].effect == "cubic_spring" and diag.candidates[0].significant
     assert len(diag.candidates) == 8
@@ -109,10 +88,9 @@ def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path):
 
 # ------------------------------------------------------------------ the CLI
 @pytest.fixture(scope="module")
-def friction_csv(protocol, tmp_path_factory):
+def friction_csv(protocol, tmp_path_factory, lab_dir):
     path = tmp_path_factory.mktemp("diag") / "friction_dev.csv"
-    # a lab record with a measured velocity column (the acceleration comes from it)
-    write_csv(rig_record(protocol, "friction_dev", **PLANTED["friction"]), str(path), with_velocity=True)
+    write_csv(rig_record(protocol, lab_dir, "friction_dev", **PLANTED["friction"]), str(path))  # t,d,F
     return path
 
 
@@ -138,7 +116,9 @@ def test_cli_next_step_shows_the_error_fallen(friction_csv, tmp_path, capsys):
                      "--pop", "8", "--gens", "60", "--quiet", "--no-figures"])
     assert code == 0
     out = capsys.readouterr().out
-    assert "with model 2+friction" in out and "nothing left to explain" in out
+    # the exact model: nothing more is suggested (the OF is near the floor; friction at the
+    # rests between levels meets the derived velocity's noise there, which keeps it above 1x)
+    assert "with model 2+friction" in out and "suggestion:" not in out
     assert "friction.Ff = " in out and "error fell from OF" in out and "(2) to" in out
 
 
@@ -181,13 +161,15 @@ def test_cli_missing_record_in_a_subprocess(tmp_path):
 
 
 # ------------------------------------------------------------------ where it fails
-def test_where_numbers_point_at_the_effect(protocol):
+def test_where_numbers_point_at_the_effect(protocol, lab_dir):
     fits = {}
-    for name in ("asymmetry", "thermal_softening", "gap"):
-        rec = rig_record(protocol, name, **PLANTED[name])
+    for name, params in (("asymmetry", PLANTED["asymmetry"]), ("thermal_softening", PLANTED["thermal_softening"]),
+                         ("gap", dict(gap=1.0))):  # a 1 mm dead band lies within 20% of the peak velocity
+        rec = rig_record(protocol, lab_dir, name, **params)
         fits[name] = diagnose(rec, "2", seed=0, settings=SETTINGS, candidates=False).where
-    w = fits["asymmetry"]  # r = 0.08: the symmetric model is too weak in tension, too strong in compression
-    assert w["tension"]["signed"] > 0 > w["compression"]["signed"]
+    w = fits["asymmetry"]  # r = 0.12: the symmetric model is weaker in tension than in compression
+    # (the L1 fit follows one side: signed residuals differ by about r x the mean force)
+    assert w["tension"]["signed"] - w["compression"]["signed"] > 10.0
     w = fits["thermal_softening"]  # softening: the constant model is too weak early, too strong late
     assert w["early"]["signed"] > w["late"]["signed"]
     w = fits["gap"]  # dead band at the reversals

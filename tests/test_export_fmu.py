@@ -343,7 +343,7 @@ def test_model_c_mirrors_the_python_step_forms():
 
     from numba.core.registry import CPUDispatcher
 
-    loops = {"history", "model_history", "play_population", "thermal_population", "series_population"}
+    loops = {"history", "model_history", "thermal_population", "series_population"}
     c_names = set(re.findall(r"^static\s[\w\s*]*?\b(\w+)\(", (FMU_SOURCES / "model.c").read_text(), re.M))
     for module in ("fvd_bridge.laws.steps", "fvd_bridge.laws.trbdf2", "fvd_bridge.laws.scalar",
                    "fvd_bridge.effects.steps", "fvd_bridge.effects.scalar"):

@@ -26,7 +26,10 @@ NOISE = 1.0  # kN
 
 
 def sinusoid_record(F_of=None, n=2600, dt=0.002):
-    """10 cycles of 40 mm at 0.5 m/s with a quarter-second fade-in; exact v, a."""
+    """10 cycles of 40 mm at 0.5 m/s with a quarter-second fade-in; exact v, a
+    (these tests check the optimizers on exact inputs: recovery to 2% of each
+    parameter; on lab-like records, t,d,F with displacement noise, see
+    test_diagnose_lab.py and test_calibrate_cli.py)."""
     t = np.arange(n) * dt
     w = 12.5
     env = np.clip(t / 0.25, 0.0, 1.0)

@@ -1,10 +1,18 @@
 """The virtual test rig: exactness against law 2, energy, each effect's
-fingerprint, an independent integrator, reproducibility, series, CLI."""
+fingerprint, an independent integrator, reproducibility, series, CLI.
+
+The physics tests use ``simulate`` / ``trace`` in memory, whose v and a are
+the exact imposed ones and whose d is exact (noise None): they compare the
+rig with closed forms and other integrators, where a derived velocity's
+noise and bias would only blur the check. Records written and read back
+(write_series, the CLI, tests/lab.py) carry the default 0.005 mm
+displacement noise and the tool's derived velocity, like a lab's."""
 
 from __future__ import annotations
 
 import math
 import os
+import warnings
 
 import numpy as np
 import pytest
@@ -15,7 +23,8 @@ from scipy.optimize import brentq
 from fvd_bridge.cli import main
 from fvd_bridge.errors import InputError
 from fvd_bridge.laws import get_law
-from fvd_bridge.records import read_record
+from fvd_bridge.records import RecordWarning, read_record
+from lab import lab_from_forces, lab_record
 from fvd_bridge.rig import (Device, Noise, acceptance, cycle_bounds, demo_series, energy_per_cycle, history,
                             loop_area, orifice_energy_per_cycle, paper, production_series, read_history,
                             read_truth, simulate, trace, write_series)
@@ -273,6 +282,11 @@ def test_seeded_noise_is_reproducible(prot):
     assert np.std(a.d - clean.d) == pytest.approx(0.01, rel=0.06)
     assert np.array_equal(a.v, clean.v)  # v stays the exact imposed velocity
     assert a.provenance["rig"]["Ks"] == 150.0 and a.provenance["noise"]["force_kN"] == 1.0
+    assert a.d_noise == 0.01 and not np.any(a.v_noise) and not np.any(a.a_noise)
+    # the default noise is lab-like: 0.005 mm on d; no noise at all is noise=None (the exact truth)
+    assert Noise() == Noise(0.0, 0.005) and clean.d_noise == 0.0
+    lab = simulate(dev, prot, Noise(), seed=7)
+    assert np.std(lab.d - clean.d) == pytest.approx(0.005, rel=0.06) and np.array_equal(lab.F, clean.F)
 
 
 def test_production_series_statistics():
@@ -316,14 +330,43 @@ def test_write_series_reads_back(tmp_path, prot):
     devs = production_series(2, Device(C=C0, alpha=A0, Ks=150.0), {"C": 0.05}, seed=3)
     paths = write_series(str(tmp_path), devs, prot, Noise(0.5), seed=11, with_velocity=True)
     assert [os.path.basename(p) for p in paths] == ["device_01.csv", "device_02.csv", "truth.yaml"]
+    assert sorted(os.listdir(tmp_path)) == ["device_01.csv", "device_01.yaml", "device_02.csv", "device_02.yaml",
+                                            "truth.yaml"]  # each record with its unit sidecar
     truth = read_truth(str(tmp_path))
     assert truth["devices"] == devs and truth["noise"]["force_kN"] == 0.5
+    assert truth["noise"]["displacement_mm"] == 0.005
     for dev, f in zip(devs, truth["files"]):
-        rec = read_record(f)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RecordWarning)  # the sidecar states the units
+            rec = read_record(f)
         ref = simulate(dev, prot, Noise(0.5), seed=truth["noise"]["per_device_seeds"][devs.index(dev)])
         assert rec.n == prot.n and np.allclose(rec.F, ref.F, rtol=1e-8, atol=1e-8)
+        assert np.allclose(rec.d, ref.d, rtol=1e-8, atol=1e-8)
         assert rec.provenance["velocity"]["method"] == "measured"
-    assert not any(p.endswith(".part") for p in os.listdir(tmp_path))
+        assert rec.provenance["units"] == {"t": "s", "d": "mm", "F": "kN", "v": "mm/s"}
+    assert not any(".part" in p for p in os.listdir(tmp_path))
+
+
+def test_lab_record_derives_velocity_like_a_lab(tmp_path):
+    """tests/lab.py: rig or model forces written as CSV t,d,F with the sidecar
+    and read back, so v is the tool's derivative of the noisy d."""
+    p = acceptance(cycles=2)
+    dev = Device(C=C0, alpha=A0)
+    rec = lab_record(dev, p, 1.0, 0.01, seed=3, tmp_path=tmp_path)
+    exact = simulate(dev, p, Noise(1.0, 0.01), seed=3)
+    assert sorted(f.name for f in tmp_path.iterdir()) == ["device.csv", "device.yaml"]
+    np.testing.assert_allclose(rec.F, exact.F, atol=1e-6)  # the same noise as simulate's
+    np.testing.assert_allclose(rec.d, exact.d, atol=1e-8)
+    assert rec.provenance["velocity"]["window_chosen"] == "adaptive" and rec.warnings == []
+    assert rec.d_noise == pytest.approx(0.01, rel=0.2)
+    err = rec.v - exact.v
+    assert 0 < np.sqrt(np.mean(err**2)) < 0.005 * 500  # derived, not exact, and close
+    assert rec.provenance["truth"]["rig"]["C"] == C0 and rec.provenance["truth"]["seed"] == 3
+    t = p.times()
+    d, v, _ = p.motion(t)
+    other = lab_from_forces(t, d, 2.0 * v, 0.5, 0.0, seed=1, tmp_path=tmp_path, name="linear")
+    np.testing.assert_allclose(other.d, d, atol=1e-7)  # no displacement noise asked
+    assert np.std(other.F - 2.0 * v) == pytest.approx(0.5, rel=0.06)
 
 
 def test_write_series_leaves_nothing_on_error(tmp_path, prot, monkeypatch):
@@ -355,14 +398,18 @@ def test_cli_writes_csv_and_truth(tmp_path, capsys):
     for entry in truth["devices"]:
         rec = read_record(str(out / entry["file"]))
         assert rec.n > 1000 and 200 < np.max(np.abs(rec.F)) < 400
+    assert truth["noise"]["displacement_mm"] == 0.005  # the default: lab-like
     rc = main(["rig", "--out", str(tmp_path / "demo"), "--demo", "--protocol", "acceptance", "--cycles", "1"])
-    assert rc == 0 and len(os.listdir(tmp_path / "demo")) == 6
+    assert rc == 0 and len(os.listdir(tmp_path / "demo")) == 11  # 5 CSV + 5 sidecars + truth.yaml
+    rc = main(["rig", "--out", str(tmp_path / "exact"), "--disp-noise", "0", "--cycles", "2"])
+    assert rc == 0 and yaml.safe_load(open(tmp_path / "exact" / "truth.yaml"))["noise"]["displacement_mm"] == 0.0
 
 
 @pytest.mark.parametrize("argv,name", [(["--C", "-1"], "C"), (["--alpha", "3"], "alpha"),
                                        (["--gap", "-1"], "gap"), (["--Ks", "soft"], "Ks"),
                                        (["--protocol", "nope"], "protocol"), (["--devices", "0"], "devices"),
-                                       (["--noise", "-2"], "noise"), (["--scatter", "x"], "scatter")])
+                                       (["--noise", "-2"], "noise"), (["--scatter", "x"], "scatter"),
+                                       (["--disp-noise", "-0.1"], "displacement")])
 def test_cli_bad_parameters_exit_2(tmp_path, capsys, argv, name):
     rc = main(["rig", "--out", str(tmp_path / "bad")] + argv)
     err = capsys.readouterr().err.strip()

@@ -14,8 +14,9 @@ def add_record_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--units", help="units of the columns, e.g. t=ms,d=m,F=N (default s, mm, kN, mm/s)")
     g.add_argument("--mat-var", help=".mat variable holding the columns, e.g. x_F")
     g.add_argument("--dt", type=float, help="time step [s] when the file has no time column")
-    g.add_argument("--sg-window", type=int, help="Savitzky-Golay window [samples] for velocity (odd; "
-                                                 "default about 1/25 of the period)")
+    g.add_argument("--sg-window", type=int, help="Savitzky-Golay window [samples] for velocity, the same "
+                                                 "over the whole record (odd; default: chosen per sample "
+                                                 "from the record's noise, ICI rule)")
     g.add_argument("--sg-order", type=int, default=3, help="Savitzky-Golay polynomial order (default 3)")
 
 

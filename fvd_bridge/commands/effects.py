@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import os
+
 from ..effects.compose import ordered
+from ..errors import InputError
 
 EXAMPLE = {"F": 300.0, "v": 500.0, "d": 40.0}
 
@@ -12,16 +15,23 @@ def add_parser(sub):
         "effects", help="list the physical effects that combine with any law (spec LAW+EFFECT+...)",
         description="Physical effects that compose with any of the nine laws: write a model as "
                     "LAW+EFFECT+EFFECT, e.g. 2+friction+series_stiffness (parameters 'effect.param'). "
-                    "Composition order: gap -> series spring -> law -> asymmetry, heating -> "
-                    "+ friction, parallel stiffness, inertia.")
+                    "Composition order: series connection (gap, series spring) -> law -> asymmetry, "
+                    "heating -> + friction, parallel stiffness (behind a gap), inertia.")
     p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
                    help="Python file defining extra effects (EFFECTS list; see examples/custom_effect.py)")
+    p.add_argument("--gap-figure", metavar="FILE.png",
+                   help="also write the force-displacement loop of law 9 with and without a 2 mm contact gap "
+                        "(the dead band of zero force after each force reversal) to FILE.png")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from ..catalog import catalog
 
+    if args.gap_figure:  # before any output: a bad path is one line, exit 2
+        folder = os.path.dirname(os.path.abspath(args.gap_figure))
+        if not os.path.isdir(folder):
+            raise InputError(f"--gap-figure {args.gap_figure}: folder {folder} does not exist")
     effects = ordered(catalog(args.plugin).effects.values())
     print("effects in composition order; use as LAW+EFFECT, e.g. 2+friction+series_stiffness")
     print("bounds shown for a record with peak F 300 kN, v 500 mm/s, d 40 mm; "
@@ -37,4 +47,8 @@ def run(args) -> int:
                   f"  off {off}  {p.description}")
         print(f"  looks like: {e.symptom}")
         print()
+    if args.gap_figure:
+        from ..plots.effects import gap_figure
+
+        print(f"wrote {gap_figure(args.gap_figure)}")
     return 0

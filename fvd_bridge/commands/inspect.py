@@ -13,7 +13,8 @@ def add_parser(sub):
         "inspect", help="validate a record and print its summary (samples, dt, cycles, peaks, noise)",
         description="Read and validate a record (CSV with a header, or .mat), print its summary: "
                     "samples, time step [s], duration [s], cycles, peak d [mm], v [mm/s] and F [kN], "
-                    "estimated force noise [kN], velocity method and warnings. Bad input: one line "
+                    "estimated force noise [kN], displacement noise [mm] and velocity noise [mm/s], "
+                    "velocity method and warnings. Bad input: one line "
                     "on stderr naming file, row and column, exit code 2.")
     p.add_argument("record", metavar="RECORD", help="record file: .csv (header t,d,F[,v]) or .mat")
     p.add_argument("--plot", metavar="PNG", help="write a quick-look figure (F-t, d-t, F-d, F-v) to this file")

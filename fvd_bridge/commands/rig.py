@@ -7,6 +7,7 @@ import math
 from ..errors import InputError
 from ..rig import (DEMO_NOISE, DEMO_SCATTER, PARAMETERS, Device, Noise, demo_series, from_spec, production_series,
                    write_series)
+from ..rig.simulate import DISPLACEMENT_NOISE
 
 #: CLI flag -> Device field
 FLAGS = {"C": "C", "alpha": "alpha", "Ks": "Ks", "friction": "friction", "v_friction": "v_friction",
@@ -19,7 +20,8 @@ def add_parser(sub):
         "rig", help="simulate virtual dampers: lab-like CSV records plus truth.yaml",
         description="Simulate virtual fluid-viscous dampers with known physics (orifice C sign(v)|v|^alpha, "
                     "series stiffness, seal friction, heating, pin gap, asymmetry, accumulator, mass) "
-                    "under a test protocol; write one CSV (t,d,F in s, mm, kN) per device and truth.yaml.")
+                    "under a test protocol; write one CSV (t,d,F in s, mm, kN) with its unit sidecar per "
+                    "device and truth.yaml.")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--devices", metavar="N", help="number of devices (default 1; 5 with --demo)")
     p.add_argument("--protocol", default="paper", metavar="SPEC",
@@ -28,7 +30,8 @@ def add_parser(sub):
     p.add_argument("--seed", default="0", metavar="N", help="seed of scatter and noise (default 0)")
     p.add_argument("--noise", metavar="KN", help="force noise standard deviation [kN] (default 0; 1 with --demo)")
     p.add_argument("--disp-noise", metavar="MM",
-                   help="displacement noise standard deviation [mm] (default 0; 0.005 with --demo)")
+                   help=f"displacement noise standard deviation [mm] (default {DISPLACEMENT_NOISE:g}, as a lab "
+                        f"record has; 0 for an exact displacement)")
     p.add_argument("--demo", action="store_true",
                    help="five devices like the paper's (300 kN class, loads +-260..330 kN) with realistic "
                         "effects and noise")
@@ -130,7 +133,7 @@ def run(args) -> int:
         nominal = Device(**params)
         devices = production_series(n, nominal, scatter, seed)
         force = 0.0 if args.noise is None else _float("noise", args.noise)
-        disp = 0.0 if args.disp_noise is None else _float("disp-noise", args.disp_noise)
+        disp = DISPLACEMENT_NOISE if args.disp_noise is None else _float("disp-noise", args.disp_noise)
     noise = Noise(force, disp)
     try:
         paths = write_series(args.out, devices, protocol, noise, seed, with_velocity=args.with_velocity,

@@ -2,11 +2,15 @@
 
 An effect counts ("helps beyond noise") only if both hold:
 
-1. the OF falls by more than ``MARGIN`` noise-floor uncertainties:
-   OF_base - OF_with > MARGIN u,  u = floor max(1.7 / sqrt(N), 0.02)
+1. the OF falls by more than the margin
+   m = MARGIN u + INPUT_SHARE (floor - floor_F),  u = floor max(1.7 / sqrt(N), 0.02)
    (1.7 / sqrt(N): the relative scatter of the floor estimated from the
    force noise (median of N fourth differences) combined with the scatter
-   of the exact model's OF under the same noise);
+   of the exact model's OF under the same noise; floor - floor_F the part
+   of the floor the displacement noise makes (``floor.py``), a Monte Carlo
+   estimate around the record's own noisy velocity: on records of known
+   truth the exact model's OF is 1.07-1.32x the floor, so a share of that
+   part is added);
 2. the Bayesian information criterion agrees (Laplace errors, whose
    maximum likelihood is set by the mean absolute residual, so the OF):
    dBIC = 2 N_eff ln(OF_with / OF_base) + dk ln(N_eff) < 0,
@@ -15,12 +19,18 @@ An effect counts ("helps beyond noise") only if both hold:
    worth few independent samples, so a small gain does not pass.
 
 And none counts when the model is already at the noise floor
-(OF_base <= floor + MARGIN u): "nothing left to explain".
+(OF_base <= floor + m): "nothing left to explain".
 
-Each refit is a real fit (fit_model, seeded) of the model with the effect;
-should it end above the nested start (the base parameters with the effect
-switched off, which reproduces the base model exactly), the nested start is
-kept, so that adding an effect never makes the fit worse.
+Beyond the noise test an effect must be on (its refit's OF rises by more
+than the margin when the effect alone is switched off), of a size the
+record resolves and a real device could have (``sizes.py``), and help on
+held-out cycles (``heldout.py``).
+
+Each refit is a real fit (fit_model, seeded) of the model with the effect,
+whose first population holds the nested start (the base parameters with the
+effect switched off, which reproduces the base model exactly); should it
+still end above the nested start, the nested start is kept, so that adding
+an effect never makes the fit worse.
 """
 
 from __future__ import annotations
@@ -31,11 +41,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..fit import fit_model, objective
+from ..fit import evaluate_params, fit_model
+from . import sizes
+from .heldout import BaseFolds, held_out
 from .where import effective_samples
 
 #: an effect must lower the OF by more than this many noise-floor uncertainties
 MARGIN = 3.0
+#: ... plus this share of the part of the floor that the input (displacement) noise makes
+INPUT_SHARE = 0.4
 
 
 def floor_uncertainty(floor: float, n: int) -> float:
@@ -60,18 +74,29 @@ def nested_start(model, base_model, base_params, scales) -> np.ndarray:
 
 
 def refit(model, record, seed: int, settings, start: np.ndarray | None = None):
-    """fit_model (DE + polish, seeded); when it ends above the OF of ``start``
-    (the nested start: the model without the effect), ``start`` is the
-    result, so that adding an effect never makes the fit worse."""
-    fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings)
+    """fit_model (DE + polish, seeded) with ``start`` (the nested start: the
+    model without the effect) in the first population; should it still end
+    above ``start``'s OF, ``start`` is the result, so that adding an effect
+    never makes the fit worse."""
+    fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start)
     if start is None:
         return fit
     start = np.clip(start, fit.bounds[:, 0], fit.bounds[:, 1])
-    of0 = float(objective(record.F, model.force(record, start[None, :]), record.t)[0])
-    if np.isfinite(of0) and of0 < fit.of:
+    of0 = evaluate_params(model, record, start)
+    if of0 < fit.of:
         fit.params, fit.of = start, of0
         fit.evaluations += 1
     return fit
+
+
+def switched_off(model, params, effect, scales) -> np.ndarray:
+    """``params`` with ``effect``'s parameters at their 'off' values (clipped
+    into its bounds): the model with the effect off, everything else kept."""
+    p = np.array(params, dtype=float)
+    cols = [model.names.index(n) for n in effect.names]
+    for j, none, (lo, hi) in zip(cols, effect.none, effect.bounds(scales)):
+        p[j] = float(np.clip(none, lo, hi))
+    return p
 
 
 @dataclass
@@ -82,13 +107,16 @@ class Candidate:
     model: object  # the base model with the effect (fvd_bridge.model.Model)
     fit: object
     of: float
-    improvement: float  # (OF_base - OF) / OF_base
-    delta_bic: float
-    n_eff: float
-    significant: bool
-    reason: str
-    explanation: str
     wall_s: float = 0.0
+    off_of: float = math.inf  # the refit's OF with the effect alone switched off
+    improvement: float = 0.0  # (OF_base - OF) / OF_base
+    delta_bic: float = 0.0
+    n_eff: float = 0.0
+    significant: bool = False
+    reason: str = ""
+    explanation: str = ""
+    size: sizes.Size | None = None
+    held_out: dict | None = None
 
     @property
     def spec(self) -> str:
@@ -97,20 +125,26 @@ class Candidate:
     def as_dict(self) -> dict:
         return {"effect": self.effect, "spec": self.spec, "of": self.of, "improvement": self.improvement,
                 "delta_bic": self.delta_bic, "significant": self.significant, "reason": self.reason,
-                "explanation": self.explanation,
+                "explanation": self.explanation, "size": self.size.text if self.size else "",
+                "detectable": bool(self.size.detectable) if self.size else True,
+                "plausible": bool(self.size.plausible) if self.size else True,
+                "of_effect_off": self.off_of, "held_out": self.held_out,
                 "params": {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}}
 
 
 @dataclass
 class Judge:
-    """The noise-based yardstick of one record: floor OF, its uncertainty, N."""
+    """The noise-based yardstick of one record: floor OF, N, the force-only
+    floor (None: the floor is force noise only) and the margin."""
 
     floor: float
     n: int
+    force_floor: float | None = None
     margin: float = field(init=False)
 
     def __post_init__(self):
-        self.margin = MARGIN * floor_uncertainty(self.floor, self.n)
+        input_part = 0.0 if self.force_floor is None else max(self.floor - self.force_floor, 0.0)
+        self.margin = MARGIN * floor_uncertainty(self.floor, self.n) + INPUT_SHARE * input_part
 
     def at_floor(self, of: float) -> bool:
         return of <= self.floor + self.margin
@@ -131,27 +165,67 @@ class Judge:
         return True, "helps beyond noise", dbic, n_eff
 
 
-def rank(base_model, base_fit, record, effects: dict, judge: Judge, seed: int, settings,
-         progress=None) -> list[Candidate]:
+def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, progress=None,
+              keep: dict | None = None) -> list[Candidate]:
     """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) not
-    already in it; candidates best (lowest OF) first."""
+    already in it, from the nested start; a candidate in ``keep`` ({effect:
+    Candidate}) whose OF is not above the base's is kept as it is."""
     scales = record.scales()
     out = []
     for name, e in effects.items():
         if base_model.has(name):
             continue
+        old = (keep or {}).get(name)
+        if old is not None and old.of <= base_fit.of:
+            out.append(old)
+            continue
         model = base_model.with_effect(e)
         start = nested_start(model, base_model, base_fit.params, scales)
         t0 = time.perf_counter()
         fit = refit(model, record, seed, settings, start)
-        wall = time.perf_counter() - t0
-        F = model.force(record, fit.params[None, :])[0]
-        ok, reason, dbic, n_eff = judge.verdict(base_fit.of, fit.of, len(e.parameters), record.F - F)
-        imp = (base_fit.of - fit.of) / base_fit.of if base_fit.of > 0 else 0.0
-        cand = Candidate(name, model, fit, float(fit.of), float(imp), float(dbic), float(n_eff), ok,
-                         reason, e.explanation(), wall)
+        cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0)
+        cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, e, scales))
         out.append(cand)
         if progress:
             progress(cand)
-    out.sort(key=lambda c: (c.of, c.effect))
     return out
+
+
+def lower_base(candidates, base_model) -> tuple[float, np.ndarray | None]:
+    """(OF, base parameters) of the best candidate refit with its effect
+    switched off, when that is below the base: the base can go lower."""
+    best = min(candidates, key=lambda c: c.off_of, default=None)
+    if best is None:
+        return math.inf, None
+    cols = best.model.columns_without(best.effect)
+    return best.off_of, best.fit.params[cols]
+
+
+def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: float) -> list[Candidate]:
+    """Judge each candidate against the converged base (module docstring);
+    those that count first, each group by OF (lowest first)."""
+    folds = None
+    for c in candidates:
+        e = c.model.effects[-1]
+        c.improvement = float((base_fit.of - c.of) / base_fit.of) if base_fit.of > 0 else 0.0
+        F = c.model.force(record, c.fit.params[None, :])[0]
+        ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, len(e.parameters), record.F - F)
+        c.size = sizes.effect_size(e.name, sizes.effect_values(c.model, c.fit.params, e.name), record, sigma_d) \
+            if e.source == "built-in" else sizes.Size(", ".join(c.model.names[len(base_model.names):]))
+        c.explanation = f"{sizes.explanation(e, base_model.law.number)} ({c.size.text})"
+        if ok and c.off_of - c.of <= judge.margin:
+            ok, reason = False, f"the refit switched the effect off (OF {c.off_of:.4g} without it)"
+        if ok and not c.size.detectable:
+            ok, reason = False, f"not detectable: {c.size.why}"
+        if ok and not c.size.plausible:
+            ok, reason = False, f"implausible size: {c.size.why}"
+        if ok:
+            folds = folds or BaseFolds(base_model, base_fit.params, record)
+            c.held_out = held_out(folds, c.model, c.fit.params, c.improvement)
+            if not c.held_out["passes"]:
+                ok, reason = False, ("no gain on held-out cycles (" +
+                                     ", ".join(f"{g:+.0%}" for g in c.held_out["gain"]) + ")")
+            else:
+                reason = "helps beyond noise, on held-out cycles too"
+        c.significant, c.reason = ok, reason
+    return sorted(candidates, key=lambda c: (not c.significant, c.of, c.effect))

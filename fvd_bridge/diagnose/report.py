@@ -16,11 +16,16 @@ def _params(names, values, units) -> str:
 def format_diagnosis(diag, record_label: str | None = None) -> str:
     """The short text summary: fit, where it fails, candidates, verdict."""
     f = diag.fit
+    n = diag.noise
     lines = [f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g} "
-             f"(noise floor {diag.floor:.4g} from force noise {diag.noise_std:.3g} kN; "
-             f"{diag.of / diag.floor:.1f}x the floor)" if diag.floor > 0 else
+             f"({diag.of / diag.floor:.1f}x the noise floor {diag.floor:.4g})" if diag.floor > 0 else
              f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g}",
+             f"noise floor: force noise {diag.noise_std:.3g} kN alone gives {n.get('force_floor', diag.floor):.4g}; "
+             f"with displacement noise {n.get('sigma_d', 0.0):.3g} mm (velocity noise "
+             f"{n.get('sigma_v', 0.0):.3g} mm/s) through the model: {diag.floor:.4g}",
              f"parameters: {_params(f.names, f.params, f.units)}"]
+    if len(diag.base_history) > 1:
+        lines.append("base fit: " + "; ".join(f"{how} OF {of:.5g}" for how, of in diag.base_history))
     if diag.parent is not None:
         pspec, pof = diag.parent
         lines.append(f"error fell from OF {pof:.4g} ({pspec}) to {diag.of:.4g}: "
@@ -36,10 +41,13 @@ def format_diagnosis(diag, record_label: str | None = None) -> str:
     if diag.candidates:
         lines.append("")
         lines.append(f"candidate effects (each added to {diag.spec} and refitted; "
-                     f"a gain must exceed {diag.judge.margin:.2g} in OF and lower the BIC):")
+                     f"a gain must exceed {diag.judge.margin:.2g} in OF, lower the BIC, be of a size the record "
+                     f"resolves and a device could have, and hold on held-out cycles):")
         lines.append(f"  {'rank':<5}{'effect':<21}{'OF':>9}{'gain':>8}  verdict")
         for k, c in enumerate(diag.candidates, 1):
             lines.append(f"  {k:<5}{c.effect:<21}{c.of:>9.4g}{max(c.improvement, 0.0):>8.1%}  {c.reason}")
+            if c.size is not None:
+                lines.append(f"  {'':<26}{'':>8}{'':>8}  fitted: {c.size.text}")
     lines.append("")
     if diag.at_floor or diag.best is None:
         lines.append(diag.verdict())

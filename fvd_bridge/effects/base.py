@@ -5,8 +5,9 @@ the parameter values that switch it off (``none``: the model with the effect
 switched off is the model without it, so models are nested), an equation, and
 a vectorized function for its *stage* in the composition::
 
-    d, v, a --[input]--> x, xv, xa          the damper body's motion
-    x, xv --[series]--> x_o, u              the law's own motion (x_o = x without a series spring)
+    d, v, a --[input]--> x, xv, xa          the pin's motion (a user's input effects)
+    x, xv --[series]--> x_o, u              the law's own motion behind the connection
+                                            (a series spring, a contact gap; x_o = x without)
     F_law = law(x_o, u) --[output]--> F_el  the internal element's force
     F = F_el + sum of [parallel] terms(x, xv, xa)
 
@@ -20,7 +21,7 @@ output      fn(P, F, x, xv, dt)                      F (pop, n_t): the law's for
                                                      law's displacement and velocity
 parallel    fn(P, t, x, xv, xa)                      a force (pop, n_t) or broadcastable,
                                                      added to the damper's force
-series      (built in: series_stiffness only; it needs the law in step form)
+series      (built in: gap and series_stiffness; they need the law in step form)
 ==========  =======================================  ===================================
 
 d [mm], v [mm/s], a [mm/s^2], t [s] are the record's (n_t,) arrays, dt [s]
@@ -29,10 +30,11 @@ tension.  Within a stage effects apply in increasing ``order`` (built-ins:
 gap 10, series_stiffness 20, asymmetry 40, thermal_softening 50, friction 60,
 parallel_stiffness 70, inertia 80; a user effect defaults to 100).
 
-With a series spring the built-in asymmetry, thermal_softening and friction
-belong to the internal element that the spring carries (``series_slot``
-names the argument of the series kernel that takes them); a user effect is
-then applied outside the spring.
+With a series spring or gap the built-in asymmetry, thermal_softening and
+friction belong to the internal element that the connection carries
+(``series_slot`` names the argument of the series kernel that takes them;
+behind a gap parallel_stiffness too, compose.BEHIND_GAP); a user effect is
+then applied outside the connection.
 """
 
 from __future__ import annotations

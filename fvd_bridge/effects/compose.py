@@ -1,18 +1,28 @@
 """Composition of a law with effects, in one fixed order (the rig's physics):
 
-    1. input     gap:                x, xv, xa = play(d), its velocity and acceleration
-                                     (the damper body's motion; d, v, a without a gap)
+    1. input     a user's input effects: x, xv, xa (the pin's motion: the
+                 record's d, v, a without them)
     2. element   F_el(x_o, u) = law(x_o, u), then the output effects in order
                  (asymmetry: x (1 +- r), thermal_softening: x exp(-theta E)),
-                 plus friction Ff tanh(u / v_f)
-    3. series    series_stiffness:   Ks (x - x_o) = F_el(x_o, u), u = dx_o/dt
-                                     (without it x_o = x, u = xv)
-    4. parallel  + Kp x + F0 (parallel_stiffness), + m xa 1e-6 (inertia), user terms
+                 plus friction Ff tanh(u / v_f); behind a gap also the
+                 parallel spring Kp x_o + F0
+    3. series    the connection, series_stiffness and/or gap:
+                 F = Ks dz(x - x_o, g/2) = F_el(x_o, u), u = dx_o/dt
+                 (dz the gap's dead zone, w itself without a gap; a gap
+                 without series_stiffness is a rigid contact, Ks = inf);
+                 without either x_o = x, u = xv
+    4. parallel  + Kp x + F0 (parallel_stiffness, without a gap),
+                 + m xa 1e-6 (inertia, on the measured motion also with a
+                 gap), user terms
 
-With a series spring, the built-in element effects (asymmetry,
-thermal_softening, friction) are solved inside the spring's implicit step
-(steps.series_population); a user's output or parallel effect is then
-applied outside the spring.  Within a stage effects apply in increasing
+With a connection (a series spring, a gap, or both) the built-in element
+effects (asymmetry, thermal_softening, friction, and with a gap
+parallel_stiffness: no force at all passes the clearance) are solved
+inside its implicit step (steps.series_population); a user's output or
+parallel effect is then applied outside it.  A row whose gap is closed
+(g <= 0) or whose spring is rigid (Ks >= KS_RIGID) is computed exactly as
+the model without that effect, so every model is nested in the one with
+one more effect.  Within a stage effects apply in increasing
 ``Effect.order``.  Without any effect the model is the law itself.
 """
 
@@ -42,6 +52,11 @@ def _checked(e, F, pop: int, n: int) -> np.ndarray:
 
 #: laws whose force depends on the velocity only and vanishes at v = 0
 VELOCITY_LAWS = (1, 2)
+#: the connection effects, solved together (catalog.gap_force, catalog.series_force)
+CONNECTION = ("gap", "series_stiffness")
+#: effects solved inside the connection only when it has a gap (their slots):
+#: the accumulator sits behind the clearance
+BEHIND_GAP = {"parallel_stiffness": ("Kp", "F0")}
 
 
 def law_force(model, x, xv, dt, PL, substeps, record=None) -> np.ndarray:
@@ -51,56 +66,77 @@ def law_force(model, x, xv, dt, PL, substeps, record=None) -> np.ndarray:
     if record is not None and model.law.number in VELOCITY_LAWS:
         moving = xv != 0.0
         if np.array_equal(xv[moving], np.broadcast_to(record.v, xv.shape)[moving]):
-            # each row's velocity is the record's or 0 (a gap): mask the shared evaluation
+            # each row's velocity is the record's or 0 (a user's input effect): mask the shared evaluation
             return model.law.force(record.d, record.v, dt, PL, substeps) * moving
     with _single_thread():  # one compiled call per row: no thread start-up each time
         return np.vstack([model.law.force(x[i], xv[i], dt, PL[i:i + 1], substeps)
                           for i in range(PL.shape[0])])
 
 
-def _series(model, e, x, xv, xa, dt, PL, PE, pop, substeps):
-    """The series stage (catalog.series_force) with the built-in element effects inside."""
-    slots = {"r": np.zeros(pop), "theta": np.zeros(pop), "Ff": np.zeros(pop)}
+def _effect(model, name):
+    return next(e for e in model.effects if e.name == name)
+
+
+def _connection(model, x, xv, xa, dt, PL, PE, pop, substeps):
+    """The connection (catalog.gap_force with a gap, else catalog.series_force)
+    with the built-in element effects inside: (F, u, F_o, x_o, the effects inside)."""
+    zeros = np.zeros(pop)
+    slots = {"r": zeros, "theta": zeros, "Ff": zeros, "Kp": zeros, "F0": zeros}
     inside = set()
+    gap = model.has("gap")
     for other in model.effects:
         if other.series_slot:
             slots[other.series_slot] = PE[other.name][:, 0]
             inside.add(other.name)
+        elif gap and other.name in BEHIND_GAP:
+            for j, slot in enumerate(BEHIND_GAP[other.name]):
+                slots[slot] = PE[other.name][:, j]
+            inside.add(other.name)
     shape = (pop if x.shape[0] > 1 else 1, x.shape[1])
-    F, U, FO = e.function(PE[e.name], model.law.number, PL, np.broadcast_to(x, shape),
-                          np.broadcast_to(xv, shape), np.broadcast_to(xa, shape), dt,
-                          slots["r"], slots["theta"], slots["Ff"], substeps)
-    return F, U, FO, inside
+    motion = (model.law.number, PL, np.broadcast_to(x, shape), np.broadcast_to(xv, shape),
+              np.broadcast_to(xa, shape), dt)
+    if gap:
+        Ks = PE["series_stiffness"][:, 0] if model.has("series_stiffness") else np.full(pop, np.inf)  # rigid
+        out = _effect(model, "gap").function(PE["gap"], *motion, Ks, slots["r"], slots["theta"], slots["Ff"],
+                                             slots["Kp"], slots["F0"], substeps)
+    else:
+        out = _effect(model, "series_stiffness").function(PE["series_stiffness"], *motion, slots["r"],
+                                                          slots["theta"], slots["Ff"], substeps)
+    return (*out, inside)
 
 
-def _series_effect(model):
-    return next((e for e in model.effects if e.stage == "series"), None)
-
-
-def _rigid_rows(model, P):
-    """Rows whose series stiffness is at least KS_RIGID (the upper end of its
-    range): a rigid connection, computed without the spring (exactly the
-    model without series_stiffness, so the models are nested)."""
+def _open_rows(model, P):
+    """[(effect name, row mask)] of the connection effects switched off in
+    some rows: a gap with g <= 0 (closed), a series spring with Ks >=
+    KS_RIGID (rigid, the upper end of its range); None when no row has one."""
     from .catalog import KS_RIGID_FROM
 
-    e = _series_effect(model)
-    if e is None:
-        return None
     _, PE = model.split(P)
-    return PE[e.name][:, 0] >= KS_RIGID_FROM
+    off = []
+    if model.has("gap"):
+        off.append(("gap", PE["gap"][:, 0] <= 0.0))
+    if model.has("series_stiffness"):
+        off.append(("series_stiffness", PE["series_stiffness"][:, 0] >= KS_RIGID_FROM))
+    return off if any(mask.any() for _, mask in off) else None
 
 
-def _split_rigid(model, record, P, rigid, substeps, parts):
-    series = _series_effect(model).name
-    rigid_model = model.without_effect(series)
-    cols = model.columns_without(series)
+def _split_rows(model, record, P, off, substeps, parts):
+    """Each group of rows with the same connection effects switched off,
+    computed with the model without them (exactly that model: nesting)."""
     pop, n = P.shape[0], record.n
+    group = np.zeros(pop, dtype=np.int64)
+    for k, (_, mask) in enumerate(off):
+        group |= mask.astype(np.int64) << k
     F = np.empty((pop, n))
     out_parts: dict = {}
-    for rows, m, PP in ((np.flatnonzero(rigid), rigid_model, P[rigid][:, cols]),
-                        (np.flatnonzero(~rigid), model, P[~rigid])):
-        if rows.size == 0:
-            continue
+    for g in np.unique(group):
+        rows = np.flatnonzero(group == g)
+        m, cols = model, list(range(P.shape[1]))
+        for k, (name, _) in enumerate(off):
+            if g >> k & 1:
+                cols = [cols[j] for j in m.columns_without(name)]
+                m = m.without_effect(name)
+        PP = P[rows][:, cols]
         if m.effects:
             res = composed_force(m, record, PP, substeps, parts)
         else:
@@ -147,9 +183,9 @@ class _single_thread:
 
 def _composed(model, record, P, substeps, parts):
     pop, n = P.shape[0], record.n
-    rigid = _rigid_rows(model, P)
-    if rigid is not None and rigid.any():
-        return _split_rigid(model, record, P, rigid, substeps, parts)
+    off = _open_rows(model, P)
+    if off is not None:
+        return _split_rows(model, record, P, off, substeps, parts)
     PL, PE = model.split(P)
     dt = record.dt
     x, xv, xa = record.d[None, :], record.v[None, :], record.a[None, :]
@@ -160,21 +196,21 @@ def _composed(model, record, P, substeps, parts):
         if not isinstance(out, tuple) or len(out) != 3:
             raise InputError(f"effect '{e.name}' ({e.source}): an input effect returns (x, xv, xa)")
         x, xv, xa = (_checked(e, o, pop, n) for o in out)
-    series = [e for e in effects if e.stage == "series"]
     inside: set = set()
-    if series:
-        F, u, FO, inside = _series(model, series[0], x, xv, xa, dt, PL, PE, pop, substeps)
+    if any(model.has(name) for name in CONNECTION):
+        F, u, FO, xo, inside = _connection(model, x, xv, xa, dt, PL, PE, pop, substeps)
         if parts:
-            friction = F - FO
-            parts_out["law"] = FO
+            rest = F
             for e in effects:
-                if e.series_slot == "Ff":
-                    parts_out[e.name] = friction
-            if "Ff" not in {e.series_slot for e in effects}:
-                parts_out["law"] = F.copy()
-        # a user's output effect sees the law's own motion behind the spring
-        Ks = np.asarray(PE[series[0].name][:, 0:1], dtype=float)
-        xl, ul = np.asarray(x) - F / Ks, u
+                if e.name in inside and e.name in BEHIND_GAP:
+                    parts_out[e.name] = e.function(PE[e.name], record.t, xo, u, xa)
+                    rest = rest - parts_out[e.name]
+            friction = [e.name for e in effects if e.series_slot == "Ff"]
+            parts_out["law"] = FO if friction else rest.copy()
+            for name in friction:
+                parts_out[name] = rest - FO
+        # a user's output effect sees the law's own motion behind the connection
+        xl, ul = xo, u
     else:
         F = law_force(model, np.asarray(x), np.asarray(xv), dt, PL, substeps, record)
         if parts:

@@ -2,37 +2,41 @@
 sample: the reference for the FMU's C code.
 
 The FMU's C code mirrors ``model_history``'s loop body, its doStep.  Per
-sample k, in the order of ``compose.py`` (d, v, a the record's):
+sample k, in the order of ``compose.py`` (d, v, a the record's: the pin's
+motion x, xv, xa):
 
-  1. input     gap: rel after the pin's travel since sample k-1
-               (``steps.play_advance``), x, xv, xa = ``steps.play_motion``
-               (x, xv, xa = d, v, a without a gap);
-  2. series    series_stiffness (Ks < KS_RIGID): F = Ks w of one sample
-               step of the spring (``steps.series_sample``) with asymmetry,
-               heating and friction inside it; F = 0 at k = 0;
+  1. connection  a gap (g > 0) and/or a series spring (Ks < KS_RIGID):
+               F = Ks dz(w, g/2) of one sample step of the connection
+               (``steps.series_sample``; Ks = inf, a rigid contact, for a
+               gap alone; dz = w without a gap) with asymmetry,
+               heating, friction and, behind a gap, Kp x_o + F0 inside it;
+               F = 0 at k = 0 (the pin centred);
      or law    the law's sub-steps with xv linear between samples
                (``laws.scalar.advance``), F = ``laws.scalar.force``(x, xv);
-  3. output    F *= ``steps.asymmetry_factor``(F, r); heating:
-               W0 = ``steps.heat_energy`` of the power F xv (F with
+  2. output    (without a connection) F *= ``steps.asymmetry_factor``(F, r);
+               heating: W0 = ``steps.heat_energy`` of the power F xv (F with
                asymmetry, before heating), F *= ``steps.heat_factor``(theta, W0);
-  4. parallel  + ``steps.friction_term``(Ff, xv) (without a spring),
-               + Kp x + F0 (``catalog.parallel_force``),
+  3. parallel  + ``steps.friction_term``(Ff, xv) (without a connection),
+               + Kp x + F0 (``catalog.parallel_force``; without a gap),
                + m 1e-6 xa (``catalog.inertia_force``), added in this order.
 
 An effect is on where ``flags[effect]`` is set (the model has it), with its
-parameters in the fixed layout ``PARAMETERS``; Ks >= KS_RIGID is a rigid
-connection (the model without the spring, as ``compose.py``).  Every
-equation is a call to ``steps.py`` or ``laws/scalar.py``, except the two
-parallel terms, which ``catalog.py`` writes as array expressions only.
+parameters in the fixed layout ``PARAMETERS``; g <= 0 is no gap and
+Ks >= KS_RIGID a rigid connection (the model without the effect, as
+``compose.py``).  Every equation is a call to ``steps.py`` or
+``laws/scalar.py``, except the two parallel terms, which ``catalog.py``
+writes as array expressions only.
 Compiled without fastmath, so the sums round as numpy's (no fused
 multiply-adds); the law's sub-step velocities with ``laws.scalar``'s flags
 (``law_sample``).  tests/test_scalar_models.py checks it against
-``Model.force``: bit for bit on laws 2, 5-9 and behind a series spring;
-laws 1, 3, 4 without a spring to rounding (their drivers: F = C v, and
+``Model.force``: bit for bit on laws 2, 5-9 and behind a connection;
+laws 1, 3, 4 without one to rounding (their drivers: F = C v, and
 fastmath=True).  Units: kN, mm, s, mass kg.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -41,8 +45,8 @@ from ..errors import InputError
 from ..laws.differential import _sub_velocities
 from ..laws.scalar import advance, force, law_constants, new_state, one_member
 from .catalog import BUILTIN, EFFECTS, KS_RIGID_FROM
-from .steps import (asymmetry_factor, friction_term, heat_energy, heat_factor, inertia_term, law_exponent,
-                    parallel_spring, play_advance, play_half, play_motion, series_rest, series_sample)
+from .steps import (asymmetry_factor, friction_term, gap_half, heat_energy, heat_factor, inertia_term,
+                    law_exponent, parallel_spring, series_rest, series_sample)
 
 #: the effects, in ``flags`` order (the catalog's)
 EFFECT_NAMES = tuple(e.name for e in BUILTIN)
@@ -51,7 +55,6 @@ GAP, SERIES, ASYMMETRY, THERMAL, FRICTION, PARALLEL, INERTIA = range(7)
 PARAMETERS = tuple(n for e in BUILTIN for n in e.names)
 OFF = tuple(x for e in BUILTIN for x in e.none)
 G, KS, R, THETA, FF, KP, F0, M = range(8)
-#: compose._rigid_rows: Ks at or above this is a rigid connection [kN/mm]
 
 
 # compiled with laws.scalar's fastmath flags, as its history and the drivers:
@@ -77,41 +80,41 @@ def model_history(code, flags, p_law, p_eff, d, v, a, dt, substeps=1):
     rest; each sample step in ``substeps`` sub-steps (module docstring)."""
     n = d.size
     F = np.empty(n)
+    # compose._open_rows: a closed gap or a rigid spring is the model without it
+    gap = flags[GAP] and p_eff[G] > 0.0
     series = flags[SERIES] and not p_eff[KS] >= KS_RIGID_FROM
-    # inside the spring an absent effect is its 'off' value (as compose._series)
+    connected = gap or series
+    ks = p_eff[KS] if series else math.inf  # a gap alone: a rigid contact
+    half = gap_half(p_eff[G]) if gap else 0.0
+    # inside the connection an absent effect is its 'off' value (as compose._connection)
     r = p_eff[R] if flags[ASYMMETRY] else 0.0
     theta = p_eff[THETA] if flags[THERMAL] else 0.0
     Ff = p_eff[FF] if flags[FRICTION] else 0.0
-    half = play_half(p_eff[G])
-    rel = 0.0
+    behind = gap and flags[PARALLEL]  # the accumulator behind the clearance (compose.BEHIND_GAP)
+    kp = p_eff[KP] if behind else 0.0
+    f0 = p_eff[F0] if behind else 0.0
     h = dt / substeps
     k_law, s_law = law_constants(code, p_law, h), new_state(code)
     q_exp = law_exponent(code, p_law)
-    spring = series_rest(0.0)  # the spring's state, set at sample 0
+    spring = series_rest(0.0)  # the connection's state, set at sample 0
     W0, power = 0.0, 0.0
     x0, xv0, xa0 = 0.0, 0.0, 0.0
     for k in range(n):
-        # 1. input: the damper body's motion
-        if flags[GAP]:
-            if k > 0:
-                rel = play_advance(rel, half, v[k - 1], v[k], dt)
-            x, xv, xa = play_motion(rel, half, d[k], v[k], a[k])
-        else:
-            x, xv, xa = d[k], v[k], a[k]
-        if series:
-            # 2. the spring, with the law and the element effects inside
+        x, xv, xa = d[k], v[k], a[k]
+        if connected:
+            # 1. the connection, with the law and the element effects inside
             if k == 0:
                 spring = series_rest(x)
                 f = 0.0
             else:
-                spring, f, _ = series_sample(code, p_law, q_exp, p_eff[KS], r, theta, Ff, spring,
+                spring, f, _ = series_sample(code, p_law, q_exp, ks, half, r, theta, Ff, kp, f0, spring,
                                              x0, x, xv0, xv, xa0, xa, dt, substeps)
         else:
-            # 2. the law
+            # 1. the law
             if k > 0:
                 law_sample(code, k_law, s_law, xv0, xv, h, substeps)
             f = force(code, k_law, s_law, x, xv)
-            # 3. output
+            # 2. output
             if flags[ASYMMETRY]:
                 f = f * asymmetry_factor(f, r)
             if flags[THERMAL]:
@@ -120,11 +123,11 @@ def model_history(code, flags, p_law, p_eff, d, v, a, dt, substeps=1):
                     W0 = heat_energy(W0, power, p1, dt)
                     f = f * heat_factor(theta, W0)
                 power = p1
-            # 4. parallel: friction on the law's velocity (inside the spring with one)
+            # 3. parallel: friction on the law's velocity (inside the connection with one)
             if flags[FRICTION]:
                 f = f + friction_term(Ff, xv)
-        # 4. parallel
-        if flags[PARALLEL]:
+        # 3. parallel
+        if flags[PARALLEL] and not behind:
             f = f + parallel_spring(p_eff[KP], p_eff[F0], x)
         if flags[INERTIA]:
             f = f + inertia_term(p_eff[M], xa)

@@ -65,8 +65,10 @@ Not expressible (InputError; use the FMU export): law 7 with beta != 1 (a
 power-law spring behind the dashpot); series_stiffness on laws 3-6, 8, 9
 (SeriesMaterial passes no strain rate to its members); friction or asymmetry
 inside the series spring; asymmetry of laws 6-9 (TensionOnly does not commit
-a state under compression); gap (no play operator; ViscousDamper's LGap is
-another gap model, OF 0.02-0.09 against 2+gap+series_stiffness); thermal
+a state under compression); gap (a dead zone in series with the law:
+SeriesMaterial passes no strain rate to the law, and ViscousDamper's LGap,
+which zeroes its force over a travel LGap after each force reversal and
+restarts its Maxwell state, is another model); thermal
 softening (no material softens with dissipated energy); inertia (a mass, not
 a material); plugin effects.  Effects at their 'off' values are left out.
 """
@@ -273,7 +275,7 @@ def _parallel_spring(s, Kp: float, F0: float) -> int:
 
 # ------------------------------------------------------------------ model
 #: why an active effect cannot be exported (always)
-NEVER = {"gap": "the pin gap (a play operator on the law's input)",
+NEVER = {"gap": "the pin gap (a contact gap in series with the law: no force in the clearance)",
          "thermal_softening": "thermal_softening (force falling with dissipated energy)",
          "inertia": "inertia (a mass, not a material)"}
 

@@ -43,12 +43,16 @@ def apply_overrides(model, bounds: np.ndarray, overrides: dict) -> np.ndarray:
 
 def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
               seed=0, settings=None, substeps: int = 1, on_generation=None,
-              overrides: dict | None = None) -> FitResult:
+              overrides: dict | None = None, start: np.ndarray | None = None,
+              mask: np.ndarray | None = None) -> FitResult:
     """Fit ``model`` (fvd_bridge.model.Model) to ``record`` by minimising eq. 18.
 
     ``bounds``: 'auto', 'paper' or an (n_par, 2) array; ``overrides`` maps
     parameter names to (lower, upper) replacing those bounds.  The same seed gives
     the same result (``seed``: an int or a list of ints, as numpy's default_rng takes).  ``on_generation(gen, best_of)`` reports progress.
+    ``start``: parameters put into DE's first population (clipped into the
+    bounds; the fit ends no worse than them).  ``mask``: fit the OF of those
+    samples only (boolean (n_t,); the model still runs over the whole record).
     """
     if isinstance(bounds, str):
         mode, b = bounds, model.bounds(bounds, record.scales())
@@ -61,12 +65,13 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
 
     def evaluate(X):
         F = model.force(record, space.to_params(X), substeps)
-        of = objective(record.F, F, record.t)
+        of = objective(record.F, F, record.t, mask)
         return np.where(np.isfinite(of), of, np.inf)
 
     start = time.perf_counter()
     if optimizer == "de":
-        x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation)
+        x0 = None if start is None else space.to_unit(np.clip(start, b[:, 0], b[:, 1]))
+        x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
@@ -81,3 +86,31 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
                      wall_s=time.perf_counter() - start, record=record.name,
                      log=[bool(x) for x in space.log], off=model.off_values())
+
+
+def polish_model(model, record, start: np.ndarray, mask: np.ndarray | None = None, max_evals: int = 1000,
+                 bounds: str = "auto") -> tuple[np.ndarray, float]:
+    """Nelder-Mead from ``start`` (parameters) inside the model's bounds,
+    minimising the OF (of the ``mask``ed samples): (parameters, OF), never
+    worse than ``start``'s."""
+    from .de import polish
+
+    b = model.bounds(bounds, record.scales())
+    space = Space.of(b, model.log_scale(bounds) if bounds == "auto" else None)
+    start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
+
+    def evaluate(X):
+        of = objective(record.F, model.force(record, space.to_params(X)), record.t, mask)
+        return np.where(np.isfinite(of), of, np.inf)
+
+    of0 = float(evaluate_params(model, record, start, mask))
+    x, of = polish(evaluate, space.to_unit(start), of0, max_evals, [0])
+    params = space.to_params(x)
+    return (start, of0) if of0 <= of else (params, float(of))
+
+
+def evaluate_params(model, record, params, mask: np.ndarray | None = None) -> float:
+    """The OF (eq. 18; of the ``mask``ed samples) of one parameter vector, inf when not finite."""
+    of = float(objective(record.F, model.force(record, np.asarray(params, dtype=float)[None, :])[0],
+                         record.t, mask))
+    return of if np.isfinite(of) else float("inf")

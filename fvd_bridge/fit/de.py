@@ -24,8 +24,12 @@ class DESettings:
     polish_evals: int = 4000
 
 
-def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESettings(), on_generation=None):
-    """Minimise ``evaluate(X) -> OF`` over [0, 1]^n; returns (x, OF, history, evaluations)."""
+def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESettings(), on_generation=None,
+           x0: np.ndarray | None = None):
+    """Minimise ``evaluate(X) -> OF`` over [0, 1]^n; returns (x, OF, history, evaluations).
+
+    ``x0`` (a point of the unit cube) replaces the first member of the initial
+    population: the result is never worse than it (selection keeps the best)."""
     history: list[float] = []
     count = [0]
 
@@ -42,7 +46,8 @@ def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESetting
     res = differential_evolution(
         batch, [(0.0, 1.0)] * n, popsize=s.popsize, maxiter=s.gens, tol=s.tol, atol=0.0,
         rng=rng, vectorized=True, updating="deferred", polish=False, callback=callback,
-        init="sobol" if n > 1 else "latinhypercube", mutation=(0.5, 1.0), recombination=0.9)
+        init="sobol" if n > 1 else "latinhypercube", mutation=(0.5, 1.0), recombination=0.9,
+        x0=None if x0 is None else np.clip(x0, 0.0, 1.0))
     x, fx = np.clip(res.x, 0.0, 1.0), float(res.fun)
     if s.polish:
         x, fx = polish(evaluate, x, fx, s.polish_evals, count)

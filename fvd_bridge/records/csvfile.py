@@ -100,7 +100,7 @@ def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> 
         if key == "t" and "t" not in opts.columns and opts.dt is not None:
             continue  # time from --dt
         hint = "" if key in opts.columns else (
-            f"; name the columns with --columns t=...,d=...,F=... or a sidecar YAML")
+            "; name the columns with --columns t=...,d=...,F=... or a sidecar YAML")
         raise InputError(f"{path}: row {header_no}, column '{col}' (for {key}) not found; the header has: "
                          f"{', '.join(header)}{hint}")
     if "v" not in index and "v" in header and "v" not in opts.columns:

@@ -1,4 +1,4 @@
-"""Cycle counting, dominant period and force-noise estimate of a record."""
+"""Cycle counting, dominant period and noise estimates (force, displacement) of a record."""
 
 from __future__ import annotations
 
@@ -60,3 +60,46 @@ def force_noise(F: np.ndarray) -> float:
         return float("nan")
     d4 = F[:-4] - 4.0 * F[1:-3] + 6.0 * F[2:-2] - 4.0 * F[3:-1] + F[4:]
     return float(np.median(np.abs(d4)) / (0.6745 * np.sqrt(70.0)))
+
+
+def displacement_noise(d: np.ndarray) -> float:
+    """Standard deviation [mm] of white displacement noise (any signal's, in its unit).
+
+    The 4th-difference estimate of force_noise (a 40 mm, 500 mm/s sinusoid
+    at 500 Hz has |D4 d| < 2e-5 mm, against 0.04 mm for 0.005 mm of noise),
+    bounded below by the quantization noise q/sqrt(12) when the samples lie
+    on a grid of step q (an encoder, an ADC; ``quantum``), so that a
+    record quantized coarser than its noise (4th differences mostly zero)
+    still gets a nonzero noise.
+    """
+    sigma = force_noise(d)
+    q = quantum(d)
+    return max(sigma, q / np.sqrt(12.0)) if np.isfinite(sigma) else sigma
+
+
+#: fraction of the steps between samples that must be whole multiples of the
+#: smallest one for a signal to count as quantized
+QUANTIZED_FRACTION = 0.95
+
+
+def quantum(x: np.ndarray) -> float:
+    """The quantization step of x (its unit), 0 for a signal not on a grid.
+
+    q starts as the smallest nonzero step between samples and is refined by
+    least squares over the steps s ~ k q (k = round(s / q); steps up to 4,
+    16, 64 q, then all, so that k stays right); x is on a grid
+    when at least QUANTIZED_FRACTION of the steps are within 0.1 q of a whole
+    multiple (values printed with a rounded format, or converted between
+    units, keep that)."""
+    steps = np.abs(np.diff(x))
+    steps = steps[steps > 0]
+    if steps.size < 8:
+        return 0.0
+    q = float(steps.min())
+    for span in (4.0, 16.0, 64.0, np.inf):  # refine on small multiples first: k stays exact
+        s = steps[steps <= span * q]
+        k = np.maximum(np.round(s / q), 1.0)
+        q = float(np.sum(k * s) / np.sum(k * k))
+    k = np.maximum(np.round(steps / q), 1.0)
+    on_grid = np.abs(steps - k * q) < 0.1 * q
+    return q if np.mean(on_grid) >= QUANTIZED_FRACTION else 0.0

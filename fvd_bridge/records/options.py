@@ -33,7 +33,7 @@ class ReadOptions:
     ``mat_var`` or a .mat variable name; ``units`` maps t/d/F/v to a unit
     (see fvd_bridge.units); ``dt`` [s] builds the time column when the file
     has none; ``sg_window`` [samples] and ``sg_order`` set the Savitzky-Golay
-    velocity differentiator (window None: about 1/25 of the period).
+    velocity differentiator (window None: chosen per sample, records/velocity.py).
     ``sidecar`` is the YAML file the options were completed from, if any.
     """
 

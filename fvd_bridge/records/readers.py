@@ -2,9 +2,11 @@
 
 Steps: sidecar -> read columns (csvfile / matfile) -> finite -> units to
 kN, mm, s -> time checks -> constant/absurd checks -> uniform grid -> cycles
--> velocity (measured, or Savitzky-Golay from d) -> provenance. Any fault is
-an InputError naming the file, row and column; notes (resampling, suspicious
-units) are kept in ``Record.warnings`` and issued as RecordWarning.
+-> velocity (measured, or Savitzky-Golay from d with a window chosen per
+sample, velocity.py) and noise estimates -> provenance. Any fault is an
+InputError naming the file, row and column; notes (resampling, suspicious
+units, no unit information at all) are kept in ``Record.warnings`` and
+issued as RecordWarning.
 """
 
 from __future__ import annotations
@@ -17,12 +19,13 @@ import numpy as np
 from ..errors import InputError
 from ..units import CANONICAL, factor
 from . import validate
+from .cycles import displacement_noise
 from .csvfile import read_csv
 from .matfile import read_mat
 from .options import ReadOptions, parse_mapping, with_sidecar
 from .raw import RawColumns
 from .record import Record
-from .velocity import acceleration_from_velocity, check_settings, differentiate
+from .velocity import acceleration_from_velocity, check_settings, derive
 
 __all__ = ["ReadOptions", "RecordWarning", "parse_mapping", "read_record"]
 
@@ -79,14 +82,21 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     notes += [note] if note else []
     n_cycles = validate.check_cycles(path, raw.names["d"], conv["d"])
     dt = float(t[1] - t[0])
-    v_d, a_d, settings = differentiate(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ")
+    der = derive(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ")
     if "v" in conv:
-        validate.check_velocity(path, raw.names["v"], conv["v"], v_d)
+        validate.check_velocity(path, raw.names["v"], conv["v"], der.v)
         v = conv["v"]
-        a, acc = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order, f"{path}: ")
-        vel = {"method": "measured", "column": raw.names["v"], "acceleration": dict(acc, method="savgol")}
+        v_noise = np.full(v.size, displacement_noise(v))
+        a, a_noise, acc = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order, f"{path}: ",
+                                                     float(v_noise[0]))
+        vel = {"method": "measured", "column": raw.names["v"], "d_noise_mm": der.d_noise,
+               "v_noise_mm_s": float(v_noise[0]), "acceleration": acc}
     else:
-        v, a, vel = v_d, a_d, settings
+        v, a, v_noise, a_noise, vel = der.v, der.a, der.v_noise, der.a_noise, der.settings
+    if not opts.units:
+        notes.append(f"{path}: no unit information: read as " + ", ".join(
+            f"{k} [{CANONICAL[k]}]" for k in ("t", "d", "F", "v") if k in raw.data)
+            + "; give --units or a sidecar")
     notes += validate.unit_notes(path, dt, conv["d"], raw.names)
     prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
             "columns": dict(raw.names), "units": units, "factors": factors,
@@ -97,4 +107,4 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     if opts.sidecar:
         prov["sidecar"] = os.path.abspath(opts.sidecar)
     return Record(t, conv["d"], conv["F"], v, a, name=name or os.path.splitext(os.path.basename(path))[0],
-                  provenance=prov, warnings=notes)
+                  provenance=prov, warnings=notes, d_noise=der.d_noise, v_noise=v_noise, a_noise=a_noise)

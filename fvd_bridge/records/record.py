@@ -15,6 +15,14 @@ class Record:
     each column came from (file, column mapping, source units and their
     factors, velocity method and Savitzky-Golay settings); ``warnings`` holds
     the notes the reader made (e.g. resampled time).
+
+    Noise, for propagating it through a model: ``d_noise`` [mm] the
+    displacement noise std (estimated by the reader; the rig's true value);
+    ``v_noise`` [mm/s] and ``a_noise`` [mm/s^2] per-sample noise std of v
+    and a (for a derived velocity: the differentiator's noise gain times
+    d_noise at the window used at each sample; for a measured one: its own
+    estimated noise; zero for the rig's exact v and a). None: unknown (a
+    record built in code).
     """
 
     t: np.ndarray
@@ -25,6 +33,9 @@ class Record:
     name: str = "record"
     provenance: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    d_noise: float | None = None
+    v_noise: np.ndarray | None = None
+    a_noise: np.ndarray | None = None
 
     #: units of the fields
     UNITS = {"t": "s", "d": "mm", "F": "kN", "v": "mm/s", "a": "mm/s^2"}
@@ -32,6 +43,15 @@ class Record:
     def __post_init__(self):
         for key in ("t", "d", "F", "v", "a"):
             setattr(self, key, np.asarray(getattr(self, key), dtype=float))
+        for key in ("v_noise", "a_noise"):
+            x = getattr(self, key)
+            if x is not None:
+                x = np.asarray(x, dtype=float)
+                if x.size not in (1, self.t.size):
+                    raise ValueError(f"Record '{self.name}': {key} has {x.size} values for {self.t.size} samples")
+                setattr(self, key, np.broadcast_to(x.reshape(-1) if x.size > 1 else x.reshape(()), self.t.shape).copy())
+        if self.d_noise is not None:
+            self.d_noise = float(self.d_noise)
         sizes = {key: getattr(self, key).size for key in ("t", "d", "F", "v", "a")}
         if len(set(sizes.values())) != 1 or self.t.size < 2:
             raise ValueError(f"Record '{self.name}': fields need one common length >= 2, got {sizes}")
@@ -62,5 +82,7 @@ class Record:
     def slice(self, start: int, stop: int, name: str | None = None) -> "Record":
         """Samples [start, stop) as a new record (provenance and warnings kept)."""
         s = np.s_[start:stop]
+        cut = {k: None if getattr(self, k) is None else getattr(self, k)[s] for k in ("v_noise", "a_noise")}
         return Record(self.t[s], self.d[s], self.F[s], self.v[s], self.a[s],
-                      name or self.name, dict(self.provenance, slice=[start, stop]), list(self.warnings))
+                      name or self.name, dict(self.provenance, slice=[start, stop]), list(self.warnings),
+                      d_noise=self.d_noise, **cut)

@@ -4,14 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cycles import count_cycles, force_noise
+from .cycles import count_cycles, displacement_noise, force_noise
 from .record import Record
 
 
 def summarize(rec: Record) -> dict:
     """Samples, time step [s], duration [s], cycles, peaks (d [mm] about the
     median, |v| [mm/s], |F| [kN]), force noise [kN] (cycles.force_noise),
-    velocity method and the reader's warnings."""
+    displacement noise [mm] (cycles.displacement_noise, or the record's
+    d_noise), velocity noise [mm/s] (median over the record of its per-sample
+    v_noise; nan when unknown), velocity method and the reader's warnings."""
     vel = rec.provenance.get("velocity", {})
     return {
         "name": rec.name,
@@ -24,6 +26,8 @@ def summarize(rec: Record) -> dict:
         "peak_v_mm_s": float(np.max(np.abs(rec.v))),
         "peak_F_kN": float(np.max(np.abs(rec.F))),
         "force_noise_kN": force_noise(rec.F),
+        "disp_noise_mm": float(rec.d_noise) if rec.d_noise is not None else displacement_noise(rec.d),
+        "velocity_noise_mm_s": float(np.median(rec.v_noise)) if rec.v_noise is not None else float("nan"),
         "velocity": velocity_text(vel),
         "columns": rec.provenance.get("columns", {}),
         "units": rec.provenance.get("units", {}),
@@ -35,6 +39,10 @@ def velocity_text(vel: dict) -> str:
     """One line describing how velocity was obtained."""
     if vel.get("method") == "measured":
         return f"measured (column '{vel.get('column')}')"
+    if vel.get("method") == "savgol" and vel.get("window_chosen") == "adaptive":
+        lo, hi = vel["windows_used"]
+        return (f"Savitzky-Golay derivative of d, order {vel['polyorder']}, window chosen per sample by ICI "
+                f"(Gamma {vel['gamma']:g}): {lo}..{hi} samples, median {vel['window_median']}")
     if vel.get("method") == "savgol":
         return (f"Savitzky-Golay derivative of d, window {vel['window']} samples "
                 f"({vel['window_s']:.4g} s, {vel.get('window_chosen', 'user')}), order {vel['polyorder']}")
@@ -45,6 +53,8 @@ def format_summary(s: dict) -> str:
     """The summary as aligned text lines."""
     noise = s["force_noise_kN"]
     rel = f" ({100 * noise / s['peak_F_kN']:.2g}% of peak |F|)" if s["peak_F_kN"] > 0 else ""
+    vn = s["velocity_noise_mm_s"]
+    vrel = f" ({100 * vn / s['peak_v_mm_s']:.2g}% of peak |v|)" if s["peak_v_mm_s"] > 0 and np.isfinite(vn) else ""
     order = [k for k in ("t", "d", "F", "v") if k in s["columns"]]
     cols = ", ".join(f"{k}={s['columns'][k]}" for k in order)
     units = ", ".join(f"{k}={s['units'][k]}" for k in order if k in s["units"])
@@ -60,6 +70,8 @@ def format_summary(s: dict) -> str:
         f"peak v       {s['peak_v_mm_s']:.4g} mm/s",
         f"peak F       {s['peak_F_kN']:.4g} kN",
         f"force noise  {noise:.3g} kN{rel}",
+        f"disp. noise  {s['disp_noise_mm']:.3g} mm",
+        f"vel. noise   {vn:.3g} mm/s{vrel} (median)",
         f"velocity     {s['velocity']}",
         f"warnings     {len(s['warnings']) or 'none'}",
     ]

@@ -1,32 +1,78 @@
-"""Velocity and acceleration from sampled displacement by a Savitzky-Golay differentiator.
+"""Velocity and acceleration from sampled displacement: Savitzky-Golay
+differentiators with a window chosen per sample by the ICI rule.
 
-The filter fits a polynomial of order ``polyorder`` to ``window`` samples
-around each point by least squares and returns its derivative there (see
-savgol.py for the equation). Its settings go into the record's provenance.
+Savitzky-Golay (scipy.signal.savgol_filter, mode='interp'): a polynomial of
+order p fitted by least squares to ``w`` samples around each point; its k-th
+derivative there is a linear filter h_w of the samples, so white
+displacement noise of std sigma_d [mm] gives the derivative a noise std
+
+    sigma_w = sigma_d ||h_w|| / dt^k        (k = 1: mm/s, k = 2: mm/s^2)
+
+(exact; the first and last w//2 samples use the end windows' polynomials,
+whose ||h|| grows towards the ends: ``noise_gain``).
+
+Adaptive window (the default), the intersection-of-confidence-intervals rule
+(ICI; Goldenshluger & Nemirovski 1997, Katkovnik 1999, after Lepski): the
+derivative x_w is computed for every window of the ladder ``LADDER``
+(5, 7, 9, 13, ... samples, up to the record's length); at each sample the
+chosen window is the largest w whose interval [x_w - Gamma sigma_w,
+x_w + Gamma sigma_w] still intersects the intervals of all smaller windows.
+A short window has little bias and much noise, a long one the opposite; the
+intervals stop intersecting where the bias of the longer window exceeds its
+noise (times Gamma), so slow cycles and rests get long windows and fast
+cycles and reversals short ones. The chosen ladder index is then smoothed
+along the record (``smooth_index``: a running median, then a running
+minimum, over ``SMOOTH_SPAN`` samples) so that it does not flicker between
+neighbouring samples, and taken ``BACK_OFF`` ladder step shorter: the ICI
+window is the one whose bias has just reached Gamma times its noise, one
+step shorter has a fraction of that bias for a little more noise (measured
+on the paper and acceptance protocols at 0.005 and 0.02 mm of noise, the RMS
+velocity error is 1.6 to 2 times lower than without the step; Gamma 2.5 to
+3 are best, 3 is kept for fewer false alarms on non-Gaussian lab noise).
+sigma_d is estimated from the record itself
+(cycles.displacement_noise). The acceleration is chosen the same way with
+its own sigma_w (k = 2).
+
+A user's window (``--sg-window``) is used for the whole record instead. The
+settings, the window range used, Gamma, sigma_d [mm] and the median velocity
+noise [mm/s] go into the record's provenance.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from math import factorial
+
 import numpy as np
 
 from ..errors import InputError
-from .savgol import savgol_derivative
 
-#: default window [samples] = dominant period / WINDOW_PER_PERIOD, clipped to this range
-WINDOW_PER_PERIOD = 25.0
-WINDOW_RANGE = (5, 101)
+#: odd windows [samples] the adaptive rule chooses from (about x sqrt(2) apart)
+LADDER = (5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025)
+#: half-width of the confidence intervals, in noise standard deviations
+GAMMA = 3.0
+#: ladder steps taken back from the ICI window (whose bias is at the edge of its noise)
+BACK_OFF = 1
+#: samples over which the chosen window index is smoothed (median, then minimum)
+SMOOTH_SPAN = 9
 
 
-def default_window(d: np.ndarray, dt: float, polyorder: int = 3) -> int:
-    """Savitzky-Golay window [samples]: about 1/25 of the dominant period of d, odd, 5..101,
-    and at least polyorder + 2."""
-    from .cycles import dominant_period
+@dataclass
+class Derivatives:
+    """v [mm/s] and a [mm/s^2] of a displacement record with their per-sample
+    noise std v_noise [mm/s] and a_noise [mm/s^2] (from sigma_d alone, bias
+    not included), the windows [samples] used at each sample (v_window,
+    a_window), the displacement noise d_noise [mm] they assume and the
+    settings for the provenance."""
 
-    period = dominant_period(d, dt)
-    w = int(round(period / dt / WINDOW_PER_PERIOD)) if np.isfinite(period) else 11
-    w = min(max(w, WINDOW_RANGE[0], polyorder + 2), WINDOW_RANGE[1])
-    w = w if w % 2 else w + 1
-    return min(w, d.size if d.size % 2 else d.size - 1)
+    v: np.ndarray
+    a: np.ndarray
+    v_noise: np.ndarray
+    a_noise: np.ndarray
+    d_noise: float
+    settings: dict
+    v_window: np.ndarray
+    a_window: np.ndarray
 
 
 def check_settings(window: int | None, polyorder: int, n: int | None = None, where: str = "") -> None:
@@ -44,35 +90,181 @@ def check_settings(window: int | None, polyorder: int, n: int | None = None, whe
         raise InputError(f"{where}--sg-window {window}: larger than the record's {n} samples")
 
 
-def differentiate(d: np.ndarray, dt: float, window: int | None = None,
-                  polyorder: int = 3, where: str = "") -> tuple[np.ndarray, np.ndarray, dict]:
-    """Savitzky-Golay first and second derivatives of d [mm] on step dt [s].
+def noise_gain(window: int, polyorder: int, deriv: int, dt: float) -> tuple[float, np.ndarray]:
+    """||h|| / dt^deriv of the Savitzky-Golay derivative filter [1/s^deriv]:
+    (at the centre of a window, at the first window//2 samples of a record).
 
-    ``where`` prefixes messages (e.g. the file name). Returns v [mm/s],
-    a [mm/s^2] and the settings (method, window [samples],
-    window_s [s], polyorder), which go into the record's provenance so that a
-    fit can be reproduced.
+    The filter evaluates the least-squares polynomial of the window at an
+    offset x0 from its centre; with u = x/h (h = window//2) and the
+    monomials' Gram matrix G = V^T V, the noise gain is sqrt(b^T G^-1 b),
+    b_j = j!/(j-k)! u0^(j-k) / h^k. The centre (u0 = 0) equals
+    ||scipy.signal.savgol_coeffs(window, polyorder, deriv)||; the last
+    window//2 samples mirror the first.
     """
-    auto = window is None
-    if auto:
-        window = default_window(d, dt, polyorder)
+    h = window // 2
+    p = min(polyorder, window - 1)
+    if deriv > p:
+        return 0.0, np.zeros(h)
+    u = np.arange(-h, h + 1) / h
+    ginv = np.linalg.inv(np.vander(u, p + 1, increasing=True).T @ np.vander(u, p + 1, increasing=True))
+    j = np.arange(deriv, p + 1)
+    falling = np.array([factorial(i) / factorial(i - deriv) for i in j]) / float(h) ** deriv
+    u0 = np.concatenate([[0.0], (np.arange(h) - h) / h])
+    B = np.zeros((u0.size, p + 1))
+    B[:, deriv:] = falling * u0[:, None] ** (j - deriv)
+    gain = np.sqrt(np.einsum("ij,jk,ik->i", B, ginv, B)) / dt**deriv
+    return float(gain[0]), gain[1:]
+
+
+def _gain_along(window: int, polyorder: int, deriv: int, dt: float, n: int) -> np.ndarray:
+    """noise_gain at every sample of an n-sample record [1/s^deriv]."""
+    centre, edge = noise_gain(window, polyorder, deriv, dt)
+    g = np.full(n, centre)
+    h = window // 2
+    g[:h], g[n - h:] = edge, edge[::-1]
+    return g
+
+
+def _savgol(x: np.ndarray, window: int, polyorder: int, deriv: int, dt: float) -> np.ndarray:
+    from scipy.signal import savgol_filter
+
+    if deriv > polyorder:
+        return np.zeros(x.size)
+    return savgol_filter(x, window, polyorder, deriv=deriv, delta=dt, mode="interp")
+
+
+def ladder(n: int, polyorder: int) -> list[int]:
+    """The windows of LADDER that fit an n-sample record and exceed polyorder + 1."""
+    return [w for w in LADDER if polyorder + 1 < w <= n] or [_odd_at_most(n)]
+
+
+def _odd_at_most(n: int) -> int:
+    return n if n % 2 else n - 1
+
+
+def smooth_index(idx: np.ndarray, span: int = SMOOTH_SPAN) -> np.ndarray:
+    """Running median, then running minimum, over ``span`` samples of the
+    chosen ladder index (an isolated jump is dropped; a drop spreads over
+    the span, so no sample takes a longer window than its neighbours allow)."""
+    from scipy.ndimage import median_filter, minimum_filter1d
+
+    if span <= 1 or idx.size < span:
+        return idx
+    return minimum_filter1d(median_filter(idx, size=span, mode="nearest"), span, mode="nearest")
+
+
+def ici_choice(estimates: np.ndarray, sigmas: np.ndarray, gamma: float = GAMMA) -> np.ndarray:
+    """Index (into the windows, shortest first) of the largest window whose
+    confidence interval intersects those of all shorter windows, per sample.
+
+    ``estimates`` and ``sigmas`` have shape (windows, samples)."""
+    lo = np.maximum.accumulate(estimates - gamma * sigmas, axis=0)
+    hi = np.minimum.accumulate(estimates + gamma * sigmas, axis=0)
+    return np.sum(lo <= hi, axis=0).astype(int) - 1  # the running intersection only shrinks
+
+
+def adaptive_derivative(x: np.ndarray, dt: float, sigma: float, deriv: int, polyorder: int = 3,
+                        gamma: float = GAMMA, span: int = SMOOTH_SPAN,
+                        back_off: int = BACK_OFF) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """The deriv-th derivative of x (white noise std ``sigma``) with the
+    window chosen per sample by ICI; returns it, its per-sample noise std,
+    the window used at each sample [samples] and the settings (windows tried
+    and used, median window, polynomial order)."""
+    p = max(polyorder, deriv)
+    wins = ladder(x.size, p)
+    est, sig = [], []
+    lo, hi = np.full(x.size, -np.inf), np.full(x.size, np.inf)
+    for w in wins:  # shortest first; stop once no sample's intersection is left (ici_choice, streamed)
+        est.append(_savgol(x, w, p, deriv, dt))
+        sig.append(sigma * _gain_along(w, p, deriv, dt, x.size))
+        lo, hi = np.maximum(lo, est[-1] - gamma * sig[-1]), np.minimum(hi, est[-1] + gamma * sig[-1])
+        if not np.any(lo <= hi):
+            break
+    est, sig = np.array(est), np.array(sig)
+    idx = np.maximum(smooth_index(ici_choice(est, sig, gamma), span) - back_off, 0)
+    cols = np.arange(x.size)
+    out, noise = est[idx, cols], sig[idx, cols]
+    used = np.asarray(wins)[idx]
+    return out, noise, used, {"windows_tried": [int(wins[0]), int(wins[len(est) - 1])],
+                        "windows_used": [int(used.min()), int(used.max())],
+                        "window_median": int(np.median(used)), "polyorder": int(p)}
+
+
+def fixed_derivative(x: np.ndarray, dt: float, sigma: float, deriv: int, window: int,
+                     polyorder: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """The deriv-th derivative of x with one window [samples] and its per-sample noise std."""
+    p = min(max(polyorder, deriv), window - 1)
+    return _savgol(x, window, p, deriv, dt), sigma * _gain_along(window, p, deriv, dt, x.size)
+
+
+def derive(d: np.ndarray, dt: float, window: int | None = None, polyorder: int = 3, where: str = "",
+           d_noise: float | None = None, gamma: float = GAMMA) -> Derivatives:
+    """v [mm/s], a [mm/s^2] and their noise from displacement d [mm] on step dt [s].
+
+    ``window`` None: adaptive (ICI, module docstring); an odd number of
+    samples: that window everywhere. ``d_noise`` [mm]: the displacement
+    noise std (None: estimated from d, cycles.displacement_noise).
+    ``where`` prefixes messages (e.g. the file name).
+    """
+    from .cycles import displacement_noise
+
     check_settings(window, polyorder, d.size, where)
-    v = savgol_derivative(d, window, polyorder, 1, dt)
-    a = savgol_derivative(d, window, max(polyorder, 2), 2, dt)
-    return v, a, {"method": "savgol", "window": int(window), "window_s": float(window * dt),
-                  "polyorder": int(polyorder), "window_chosen": "auto" if auto else "user"}
+    if polyorder + 2 > d.size:
+        raise InputError(f"{where}--sg-order {polyorder}: needs at least {polyorder + 2} samples, "
+                         f"the record has {d.size}")
+    sigma = float(displacement_noise(d)) if d_noise is None else float(d_noise)
+    base = {"method": "savgol", "polyorder": int(polyorder), "d_noise_mm": sigma}
+    if window is None:
+        v, v_noise, v_window, sv = adaptive_derivative(d, dt, sigma, 1, polyorder, gamma)
+        a, a_noise, a_window, sa = adaptive_derivative(d, dt, sigma, 2, max(polyorder, 2), gamma)
+        settings = dict(base, window_chosen="adaptive", rule="ICI", gamma=float(gamma),
+                        windows_tried=sv["windows_tried"], windows_used=sv["windows_used"],
+                        window_median=sv["window_median"],
+                        window_median_s=float(sv["window_median"] * dt),
+                        acceleration={"windows_used": sa["windows_used"], "window_median": sa["window_median"],
+                                      "polyorder": sa["polyorder"],
+                                      "noise_mm_s2": float(np.median(a_noise))})
+    else:
+        v, v_noise = fixed_derivative(d, dt, sigma, 1, window, polyorder)
+        a, a_noise = fixed_derivative(d, dt, sigma, 2, window, max(polyorder, 2))
+        v_window = a_window = np.full(d.size, int(window))
+        settings = dict(base, window_chosen="user", window=int(window), window_s=float(window * dt),
+                        acceleration={"window": int(window), "polyorder": int(max(polyorder, 2)),
+                                      "noise_mm_s2": float(np.median(a_noise))})
+    settings["v_noise_mm_s"] = float(np.median(v_noise))
+    return Derivatives(v, a, v_noise, a_noise, sigma, settings, v_window, a_window)
 
 
-def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = None,
-                               polyorder: int = 3, where: str = "") -> tuple[np.ndarray, dict]:
-    """Acceleration [mm/s^2] from a measured velocity [mm/s] (Savitzky-Golay, 1st derivative).
+def differentiate(d: np.ndarray, dt: float, window: int | None = None, polyorder: int = 3,
+                  where: str = "", d_noise: float | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
+    """v [mm/s], a [mm/s^2] and the settings of ``derive`` (same arguments)."""
+    out = derive(d, dt, window, polyorder, where, d_noise)
+    return out.v, out.a, out.settings
 
-    Returns the acceleration and the settings used.
+
+def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = None, polyorder: int = 3,
+                               where: str = "", v_noise: float | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Acceleration [mm/s^2] from a measured velocity [mm/s] (Savitzky-Golay
+    first derivative; adaptive like ``derive`` unless ``window`` is given).
+
+    ``v_noise`` [mm/s]: the velocity's noise std (None: estimated from v).
+    Returns the acceleration, its per-sample noise std and the settings.
     """
-    auto = window is None
-    if auto:
-        window = default_window(v, dt, polyorder)
+    from .cycles import displacement_noise
+
     check_settings(window, polyorder, v.size, where)
-    a = savgol_derivative(v, window, polyorder, 1, dt)
-    return a, {"window": int(window), "window_s": float(window * dt), "polyorder": int(polyorder),
-               "window_chosen": "auto" if auto else "user"}
+    if polyorder + 2 > v.size:
+        raise InputError(f"{where}--sg-order {polyorder}: needs at least {polyorder + 2} samples, "
+                         f"the record has {v.size}")
+    sigma = float(displacement_noise(v)) if v_noise is None else float(v_noise)
+    if window is None:
+        a, a_noise, _, s = adaptive_derivative(v, dt, sigma, 1, polyorder)
+        settings = {"method": "savgol", "window_chosen": "adaptive", "rule": "ICI", "gamma": GAMMA,
+                    "windows_used": s["windows_used"], "window_median": s["window_median"],
+                    "polyorder": int(polyorder)}
+    else:
+        a, a_noise = fixed_derivative(v, dt, sigma, 1, window, polyorder)
+        settings = {"method": "savgol", "window_chosen": "user", "window": int(window),
+                    "window_s": float(window * dt), "polyorder": int(polyorder)}
+    settings["noise_mm_s2"] = float(np.median(a_noise))
+    return a, a_noise, settings

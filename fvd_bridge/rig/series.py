@@ -64,16 +64,18 @@ def _atomic_yaml(data: dict, path: str) -> None:
 def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None = None, seed=0,
                  with_velocity: bool = False, scatter: dict | None = None,
                  substeps: int | None = None, extra: dict | None = None) -> list[str]:
-    """Simulate every device, then write DEVICE.csv (t,d,F[,v]; kN, mm, s) for
-    each and truth.yaml with all true parameters, protocol and noise.
+    """Simulate every device, then write DEVICE.csv (t,d,F[,v]; kN, mm, s) with
+    its unit sidecar DEVICE.yaml for each, and truth.yaml with all true
+    parameters, protocol and noise. ``noise`` None: no noise (as
+    ``simulate``); Noise() is the lab-like default.
 
     All records are simulated before anything is written; the files are
     written into a hidden staging directory inside ``out_dir`` and moved into
     place only when all of them are complete, so an error leaves no partial
-    or half-written output. Returns the written paths (records first,
-    truth.yaml last).
+    or half-written output. Returns the written record paths, then
+    truth.yaml (the sidecars are not listed).
     """
-    noise = noise or Noise()
+    noise = noise or Noise(0.0, 0.0)
     devices = list(devices)
     if not devices:
         raise InputError("rig: no devices to simulate")
@@ -88,17 +90,20 @@ def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None 
     files = [f"{dev.name}.csv" for dev in devices]
     stage = tempfile.mkdtemp(prefix=".rig-", dir=out_dir)
     try:
+        sidecars = []
         for rec, dev, f in zip(records, devices, files):
             comment = (f"fvd_bridge rig: device {dev.name}, protocol {protocol.name}; "
                        f"units t [s], d [mm], F [kN]{', v [mm/s]' if with_velocity else ''}; "
                        f"true parameters in {TRUTH_FILE}")
-            write_csv(rec, os.path.join(stage, f), with_velocity=with_velocity, comment=comment)
+            paths = write_csv(rec, os.path.join(stage, f), with_velocity=with_velocity, comment=comment)
+            sidecars += [os.path.basename(p) for p in paths[1:]]
         _atomic_yaml(truth_dict(devices, protocol, noise, seed, files, scatter, extra),
                      os.path.join(stage, TRUTH_FILE))
         written = []
-        for f in files + [TRUTH_FILE]:
+        for f in sidecars + files + [TRUTH_FILE]:
             os.replace(os.path.join(stage, f), os.path.join(out_dir, f))
-            written.append(os.path.join(out_dir, f))
+            if f not in sidecars:
+                written.append(os.path.join(out_dir, f))
     finally:
         shutil.rmtree(stage, ignore_errors=True)
     return written

@@ -15,7 +15,7 @@ Physics (positive force = tension; d the imposed displacement [mm]):
    F_s = F_int(v_y); then E has the closed form
    exp(theta E) = 1 + theta W0, W0 = 1e-6 integral C A |v_y|^(1+alpha) dt.
 4. Measured force F = F_s + Kp y + F0 + m a_y 1e-6 + force noise;
-   measured displacement d + displacement noise.
+   measured displacement d + displacement noise (default 0.005 mm).
 
 Accuracy: the motion is the protocol's analytic d, v, a (never samples);
 integration nodes split every sample step in ``substeps`` and include every
@@ -47,13 +47,19 @@ _GL_X = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
 _GL_W = np.array([5.0, 8.0, 5.0]) / 9.0
 
 
+#: default displacement noise std [mm]: a good lab displacement transducer
+#: (LVDT or the actuator's encoder through its conditioning) on a +-40 mm stroke
+DISPLACEMENT_NOISE = 0.005
+
+
 @dataclass(frozen=True)
 class Noise:
     """Measurement noise: white, Gaussian, standard deviations force [kN] and
-    displacement [mm]."""
+    displacement [mm] (default DISPLACEMENT_NOISE, as a lab record has;
+    Noise(force, 0.0) for an exact displacement)."""
 
     force: float = 0.0
-    displacement: float = 0.0
+    displacement: float = DISPLACEMENT_NOISE
 
     def __post_init__(self):
         for key, unit in (("force", "kN"), ("displacement", "mm")):
@@ -296,11 +302,16 @@ def simulate(device: Device, protocol: Protocol, noise: Noise | None = None, see
 
     Record.d is the measured displacement (imposed d + displacement noise),
     F the measured force (+ force noise); v and a are the exact imposed
-    velocity and acceleration. Noise from numpy.random.default_rng(seed):
-    force noise first, then displacement noise. provenance['rig'] holds the
-    true parameters, provenance['protocol'] and ['noise'] the settings.
+    velocity and acceleration (v_noise = a_noise = 0; d_noise is the true
+    displacement noise). ``noise`` None: no noise at all (the exact truth;
+    Noise() is the lab-like default). Noise from
+    numpy.random.default_rng(seed): force noise first, then displacement
+    noise. provenance['rig'] holds the true parameters,
+    provenance['protocol'] and ['noise'] the settings. A record whose
+    velocity the tool derives from d, as from a lab, comes from writing this
+    one as CSV and reading it back (write_series; tests/lab.py).
     """
-    noise = noise or Noise()
+    noise = noise or Noise(0.0, 0.0)
     tr = trace(device, protocol, substeps)
     rng = np.random.default_rng(seed)
     F = tr["F"] + (noise.force * rng.standard_normal(tr["F"].size) if noise.force else 0.0)
@@ -313,5 +324,7 @@ def simulate(device: Device, protocol: Protocol, noise: Noise | None = None, see
             "integration": {"substeps": tr["substeps"], "nodes": tr["nodes"],
                             "scheme": "rigid: closed form + Gauss-Legendre" if device.rigid
                             else "SDIRK3 (Alexander), L-stable"}}
+    zero = np.zeros(tr["t"].size)
     return Record(tr["t"].copy(), d, F, tr["v"].copy(), tr["a"].copy(),
-                  name=name or device.name, provenance=prov)
+                  name=name or device.name, provenance=prov, d_noise=noise.displacement,
+                  v_noise=zero, a_noise=zero)

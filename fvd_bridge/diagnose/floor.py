@@ -1,0 +1,90 @@
+"""The noise floor of a record: the OF the true model would reach on it.
+
+A lab record carries noise on the force *and* on the displacement, and the
+velocity and acceleration the tool derives from the displacement carry that
+noise amplified by the differentiator.  The model is evaluated on those
+inputs, so its force carries their noise through its sensitivity (dF/dv,
+dF/dd): for a law with alpha ~ 0.3, dF/dv -> infinity at the reversals.
+
+The floor is estimated from the record itself, by propagating both noises
+through the fitted model (Monte Carlo, ``FLOOR_DRAWS`` draws, seeded):
+
+    e_d ~ N(0, sigma_d) white, sigma_d the record's displacement noise;
+    d' = d + e_d, v', a' = the record's differentiator applied to d';
+    e_F ~ N(0, sigma_F) white, sigma_F the record's force noise;
+    OF_floor = mean over draws of  integral |F(d', v', a') - F(d, v, a) + e_F| dt
+                                    / (std(F_measured) (t_end - t_start))
+
+(eq. 18 of the error that noise alone makes).  A measured velocity column
+gets white noise of the reader's estimate of its noise (``record.v_noise``)
+instead of the differentiator's.  Without displacement noise
+this is E|e_F| / std(F) = sigma_F sqrt(2/pi) / std(F), the force-only floor
+``fit.noise_floor``, which the report gives beside it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..fit import noise_floor, objective
+from ..records.cycles import force_noise
+from ..records.velocity import differentiate
+
+#: Monte Carlo draws of the input noise
+FLOOR_DRAWS = 4
+
+
+def displacement_noise(record) -> float:
+    """The record's displacement noise std [mm]: the reader's estimate, else
+    the same 4th-difference estimate as the force's."""
+    value = getattr(record, "d_noise", None)
+    return float(value) if value is not None else force_noise(record.d)
+
+
+def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_DRAWS) -> dict:
+    """{'floor': OF_floor, 'force_floor': the force-only floor, 'sigma_F' [kN],
+    'sigma_d' [mm], 'sigma_v' [mm/s] (median velocity noise)} of ``model``
+    at ``params`` on ``record`` (module docstring)."""
+    sigma_F = force_noise(record.F)
+    sigma_d = displacement_noise(record)
+    force_only = noise_floor(sigma_F, record.F)
+    out = {"floor": force_only, "force_floor": force_only, "sigma_F": float(sigma_F), "sigma_d": float(sigma_d),
+           "sigma_v": 0.0}
+    if not np.isfinite(sigma_F) or not np.isfinite(sigma_d):
+        return out
+    p = np.asarray(params, dtype=float)[None, :]
+    F_ref = model.force(record, p)[0]
+    rng = np.random.default_rng([int(seed), 1789])
+    ofs, dv = [], []
+    for _ in range(draws):
+        d_new = record.d + sigma_d * rng.standard_normal(record.n)
+        derived = rederive(record, d_new)
+        if derived is not None:
+            v_new, a_new = derived
+        elif getattr(record, "v_noise", None) is not None:  # a measured velocity with its own noise
+            v_new, a_new = record.v + record.v_noise * rng.standard_normal(record.n), record.a
+        else:  # exact v and a (a rig record in memory)
+            v_new, a_new = record.v, record.a
+        perturbed = dataclasses.replace(record, d=d_new, v=v_new, a=a_new)
+        F_new = model.force(perturbed, p)[0] + sigma_F * rng.standard_normal(record.n)
+        ofs.append(float(objective(record.F, record.F + (F_new - F_ref), record.t)))
+        dv.append(float(np.median(np.abs(v_new - record.v))) / 0.6745)
+    out["floor"] = float(np.mean(ofs))
+    out["sigma_v"] = float(np.median(dv))
+    return out
+
+
+def rederive(record, d: np.ndarray):
+    """(v, a) the record's differentiator gives for displacement d [mm] (its
+    provenance: a user's window stays fixed, an automatic one is chosen
+    again); None when the record's velocity was not derived from d."""
+    vel = record.provenance.get("velocity", {})
+    method = str(vel.get("method", ""))
+    if not method or method == "measured" or method.startswith("exact"):
+        return None
+    window = vel.get("window") if vel.get("window_chosen") == "user" else None
+    v, a, _ = differentiate(d, record.dt, window=window, polyorder=vel.get("polyorder", 3),
+                            d_noise=getattr(record, "d_noise", None))
+    return v, a

@@ -1,0 +1,56 @@
+"""Held-out cycles: does an effect also help on cycles it was not fitted to?
+
+The record's half-cycles are cut into two halves in time (the first and the
+second half of the half-cycles).  Base model and candidate are each fitted
+on one half (Nelder-Mead from their full-record optimum, the OF of that
+half's samples; the model still runs over the whole record, so a
+differential law's state is right) and scored on the other half, then the
+halves swap.  The candidate passes when, in both folds, it lowers the
+held-out OF by at least ``SHARE`` of the relative drop it brings on the
+whole record: a real effect carries over to cycles it was not fitted to,
+an effect that only fits one part of the record (a transient, one odd
+cycle) does not.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..fit import evaluate_params, polish_model
+from .where import half_cycles
+
+#: Nelder-Mead evaluations of each fold's fit
+FOLD_EVALS = 400
+#: share of the whole-record drop the held-out drop must reach in each fold
+SHARE = 0.5
+
+
+def folds(record) -> list[np.ndarray]:
+    """Two boolean masks (n_t,): the samples of the first and of the second
+    half of the record's half-cycles (cut at the reversal nearest the middle)."""
+    starts = half_cycles(record.d)
+    cut = int(starts[starts.size // 2]) if starts.size >= 4 else record.n // 2
+    first = np.arange(record.n) < cut
+    return [first, ~first]
+
+
+class BaseFolds:
+    """The base model fitted on each fold once, shared by every candidate."""
+
+    def __init__(self, model, params, record):
+        self.masks = folds(record)
+        self.record = record
+        self.fits = [polish_model(model, record, params, mask, FOLD_EVALS)[0] for mask in self.masks]
+        self.scores = [evaluate_params(model, record, p, ~mask) for p, mask in zip(self.fits, self.masks)]
+
+
+def held_out(base: BaseFolds, model, params, improvement: float) -> dict:
+    """{'base': [held-out OF of the base per fold], 'with': [the candidate's],
+    'gain': [relative drop per fold], 'passes': each drop >= SHARE x
+    ``improvement``, the relative drop on the whole record}."""
+    scores = []
+    for mask in base.masks:
+        fitted, _ = polish_model(model, base.record, params, mask, FOLD_EVALS)
+        scores.append(evaluate_params(model, base.record, fitted, ~mask))
+    gain = [(b - c) / b if b > 0 else 0.0 for b, c in zip(base.scores, scores)]
+    return {"base": list(base.scores), "with": scores, "gain": gain, "passes": all(g > 0.0 and g >= SHARE * improvement for g in gain)}

@@ -1,0 +1,228 @@
+"""diagnose on records as a lab delivers them: CSV files with t,d,F only
+(velocity derived by the tool), noise on displacement and force.
+
+Planted effects (the rig's orifice device, law 2 plus one effect) at
+displacement noise 0.005 and 0.02 mm and force noise 0.3% of the peak, on
+the paper protocol and on an acceptance protocol whose velocity levels
+span 100x: the planted effect ranks first, halves the OF at least and ends
+within 2x the noise floor (which counts the displacement noise); with no
+effect, nothing is suggested; no candidate ends above the base.  Friction
+and hysteretic devices (laws 8 and 9) behind a contact gap: gap first.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fvd_bridge.catalog import catalog
+from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
+from fvd_bridge.diagnose.heldout import BaseFolds, held_out
+from fvd_bridge.fit import fit_model, settings_for
+from fvd_bridge.golden import REFERENCE
+from fvd_bridge.records import Record
+from fvd_bridge.rig import Device, Noise, acceptance, paper, trace
+from fvd_bridge.rig.model_device import simulate_model
+from lab import lab_from_forces
+
+C, ALPHA = 45.4, 0.3
+#: small optimizer settings for the candidates: DE population per parameter, generations, polish evaluations
+SETTINGS = diagnose_settings(8, 60, 600)
+#: one planted effect each, sized like real devices (inside the plausible ranges of diagnose/sizes.py)
+#: and large enough that law 2 alone ends at 3x the noise floor or more (peak force about 290 kN)
+PLANTED = {
+    "series_stiffness": dict(Ks=50.0),
+    "friction": dict(friction=90.0),
+    "thermal_softening": dict(heating=3.0),
+    "gap": dict(gap=2.5),
+    "asymmetry": dict(asymmetry=0.12),
+    "parallel_stiffness": dict(Kp=1.5, preload=8.0),
+    "inertia": dict(mass=3500.0),
+}
+PROTOCOLS = {
+    "paper": lambda: paper(cycles=6, dt=0.002),
+    # levels 1% to 100% of 500 mm/s (100x), 2 cycles each, 15 mm (up to 3.7 Hz)
+    "acceptance": lambda: acceptance(amplitude=15.0, cycles=2, dt=0.004),
+}
+DISP_NOISE = (0.005, 0.02)  # [mm]
+#: the least relative OF drop the planted effect must bring: one half, except for
+#: seal friction on the paper protocol: one velocity level, where law 2 with a
+#: smaller alpha takes up most of a constant friction force and what tells them
+#: apart (the force within 1-3 mm/s of a reversal, under a millisecond) is below
+#: one sample and inside the derived velocity's noise (measured: 47% at 0.005 mm,
+#: 27% at 0.02 mm); the acceptance protocol's 5 mm/s level separates them
+LEAST_GAIN = {("friction", "paper"): 0.25}
+#: ... and at 0.02 mm the law-2 fit on the paper protocol is within the floor's margin
+#: (1.36x the floor): the friction is not resolved there; nothing else may be suggested
+UNRESOLVED = {("friction", "paper", 0.02)}
+FORCE_NOISE = 0.003  # of the peak force
+
+
+def lab_file(t, d_exact, F_exact, disp_noise, seed, folder, name) -> Record:
+    """A lab CSV t, d + noise, F + noise (0.3% of the peak) read back: the
+    velocity is the tool's derivative of the noisy displacement."""
+    return lab_from_forces(t, d_exact, F_exact, FORCE_NOISE * np.max(np.abs(F_exact)), disp_noise, seed,
+                           folder, name=name)
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    return tmp_path_factory.mktemp("lab")
+
+
+def rig_lab(protocol_name, effect, disp_noise, folder, seed=3) -> Record:
+    device = Device(C=C, alpha=ALPHA, **PLANTED.get(effect, {}))
+    tr = trace(device, PROTOCOLS[protocol_name]())
+    return lab_file(tr["t"], tr["d"], tr["F"], disp_noise, seed, folder,
+                    f"{protocol_name}_{effect}_{disp_noise:g}")
+
+
+def check_nested(diag):
+    """No candidate ends above the base (each starts from it, effect off)."""
+    for c in diag.candidates:
+        assert c.of <= diag.of * (1 + 1e-9), (c.effect, c.of, diag.of)
+
+
+@pytest.mark.parametrize("disp_noise", DISP_NOISE)
+@pytest.mark.parametrize("protocol_name", PROTOCOLS)
+@pytest.mark.parametrize("effect", tuple(PLANTED))
+def test_planted_effect_on_a_lab_record(protocol_name, effect, disp_noise, folder):
+    rec = rig_lab(protocol_name, effect, disp_noise, folder)
+    assert "v" not in rec.provenance.get("columns", {})  # derived by the tool
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
+    text = format_diagnosis(diag)
+    check_nested(diag)
+    if (effect, protocol_name, disp_noise) in UNRESOLVED:
+        assert diag.best is None or diag.best.effect == effect, text
+        return
+    top = diag.candidates[0]
+    assert top.effect == effect, text
+    assert diag.best is top, text
+    assert top.improvement >= LEAST_GAIN.get((effect, protocol_name), 0.5), text
+    assert top.of <= 2.0 * diag.floor, text
+
+
+@pytest.mark.parametrize("disp_noise", DISP_NOISE)
+@pytest.mark.parametrize("protocol_name", PROTOCOLS)
+def test_no_effect_nothing_suggested_on_a_lab_record(protocol_name, disp_noise, folder):
+    rec = rig_lab(protocol_name, "none", disp_noise, folder)
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
+    check_nested(diag)
+    assert diag.suggestions == [], format_diagnosis(diag)
+    assert diag.of <= 2.0 * diag.floor
+    # the floor counts the displacement noise: above the force-only floor
+    assert diag.floor > diag.noise["force_floor"]
+
+
+@pytest.mark.parametrize("law", [9, 8])
+def test_contact_gap_on_a_friction_device(law, folder):
+    model = catalog().model(f"{law}+gap")
+    protocol = paper(amplitude=20.0, velocity=100.0, cycles=5, dt=0.002)
+    with_gap = simulate_model(model, list(REFERENCE[law]) + [2.0], protocol)
+    rec = lab_file(with_gap.t, with_gap.d, with_gap.F, 0.005, 5, folder, f"law{law}_gap")
+    diag = diagnose(rec, str(law), seed=0, settings=SETTINGS)
+    check_nested(diag)
+    assert diag.best is not None and diag.best.effect == "gap", format_diagnosis(diag)
+    assert diag.best.of <= 0.5 * diag.of
+    g = diag.best.fit.params[-1]
+    assert g == pytest.approx(2.0, rel=0.15)
+    # the same device without a gap: no gap suggested
+    plain = simulate_model(catalog().model(str(law)), REFERENCE[law], protocol)
+    rec = lab_file(plain.t, plain.d, plain.F, 0.005, 6, folder, f"law{law}_plain")
+    diag = diagnose(rec, str(law), seed=0, settings=SETTINGS)
+    check_nested(diag)
+    assert "gap" not in [c.effect for c in diag.suggestions], format_diagnosis(diag)
+
+
+def test_bad_base_start_is_recovered(folder):
+    """A deliberately bad base fit handed to diagnose is converged: its base OF
+    ends within 1% of calibrate's (the default optimizer, calibrate's seed)."""
+    rec = rig_lab("paper", "friction", 0.005, folder)
+    model = catalog().model("2")
+    good = fit_model(model, rec, seed=[0, 0, 0, 0], settings=settings_for("de"))
+    bad = fit_model(model, rec, seed=0, settings=diagnose_settings(4, 2, 1))
+    bad.params = np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01])
+    bad.of = float("inf")
+    diag = diagnose(rec, model, seed=0, settings=SETTINGS, base_fit=bad)
+    assert diag.of <= 1.01 * good.of
+    check_nested(diag)
+
+
+def test_diagnose_base_agrees_with_calibrate(folder):
+    from fvd_bridge.api import calibrate
+
+    rec = rig_lab("acceptance", "friction", 0.02, folder)
+    cal = calibrate(rec, "2", runs=1, seed=0)
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS, candidates=False)
+    assert diag.of == pytest.approx(cal.of, rel=0.01)
+
+
+def test_held_out_rejects_an_effect_of_one_part_of_the_record(folder):
+    """An offset force in the first half of the record only: on the whole
+    record a preload (parallel_stiffness) lowers the OF, but fitted on one
+    half it does not help on the other."""
+    device = Device(C=C, alpha=ALPHA)
+    tr = trace(device, PROTOCOLS["paper"]())
+    F = tr["F"] + np.where(tr["t"] < 0.5 * tr["t"][-1], 15.0, 0.0)
+    rec = lab_file(tr["t"], tr["d"], F, 0.005, 7, folder, "offset_first_half")
+    diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
+    cand = next(c for c in diag.candidates if c.effect == "parallel_stiffness")
+    folds = BaseFolds(diag.model, diag.fit.params, rec)
+    check = held_out(folds, cand.model, cand.fit.params, cand.improvement)
+    assert not check["passes"], check
+    assert "parallel_stiffness" not in [c.effect for c in diag.suggestions], format_diagnosis(diag)
+
+
+def test_undetectable_gap_is_not_suggested(folder):
+    """A gap no larger than the displacement noise resolves is reported as not detectable."""
+    from fvd_bridge.diagnose.sizes import effect_size
+
+    rec = rig_lab("paper", "none", 0.02, folder)
+    size = effect_size("gap", {"g": 0.04}, rec, 0.02)
+    assert not size.detectable and "resolves" in size.why
+    assert effect_size("gap", {"g": 1.0}, rec, 0.02).detectable
+
+
+def test_wording_follows_the_device_kind():
+    from fvd_bridge.diagnose.sizes import explanation
+
+    e = catalog().effects["parallel_stiffness"]
+    assert "fluid" in explanation(e, 2)
+    assert "fluid" not in explanation(e, 9) and "friction" in explanation(e, 9)
+
+
+# ------------------------------------------------------------------ the shared friction damper
+@pytest.fixture(scope="module")
+def friction_damper(shared_dir):
+    """The real friction damper with play, 0.5 Hz test (../shared/devices), read as
+    the example reads it (t,d,F; 256 Hz; velocity derived)."""
+    import importlib.util
+
+    from conftest import REPO
+
+    if not (shared_dir / "devices" / "arts_brfd_0.5Hz_25lb.csv").is_file():
+        pytest.skip("../shared/devices lacks the friction-damper records")
+    spec = importlib.util.spec_from_file_location("diag_fd", REPO / "examples" / "diagnose_friction_damper.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod.read("arts_brfd_0.5Hz_25lb.csv")
+
+
+def test_real_friction_damper_credits_no_switched_off_effect(friction_damper):
+    """Law 9 on the real friction damper: the base matches calibrate's; every
+    credited effect is on (switching it off in its refit costs more than the
+    margin), of a plausible size, and holds on held-out cycles; no candidate
+    is above the base."""
+    from fvd_bridge.api import calibrate
+
+    rec = friction_damper
+    diag = diagnose(rec, "9", seed=0, settings=SETTINGS)
+    check_nested(diag)
+    assert diag.of == pytest.approx(calibrate(rec, "9", seed=0).of, rel=0.01)
+    for c in diag.candidates:
+        if c.significant:
+            assert c.off_of - c.of > diag.judge.margin and c.size.plausible and c.held_out["passes"]
+        if c.improvement > 0.02 and c.off_of <= c.of + diag.judge.margin:
+            assert not c.significant, c.reason
+    for c in diag.suggestions:  # a friction device: no fluid wording
+        assert "fluid" not in c.explanation and "oil" not in c.explanation
