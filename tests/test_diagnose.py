@@ -10,12 +10,11 @@ import json
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from conftest import PLUGIN, REPO, cli_env
 from fvd_bridge import cli
-from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
+from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_ladder
 from fvd_bridge.fit import fit_model
 from fvd_bridge.catalog import catalog
 from fvd_bridge.records import Record

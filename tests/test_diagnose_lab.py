@@ -21,7 +21,7 @@ from fvd_bridge.diagnose.heldout import BaseFolds, held_out
 from fvd_bridge.fit import fit_model, settings_for
 from fvd_bridge.golden import REFERENCE
 from fvd_bridge.records import Record
-from fvd_bridge.rig import Device, Noise, acceptance, paper, trace
+from fvd_bridge.rig import Device, acceptance, paper, trace
 from fvd_bridge.rig.model_device import simulate_model
 from lab import lab_from_forces
 
@@ -226,3 +226,8 @@ def test_real_friction_damper_credits_no_switched_off_effect(friction_damper):
             assert not c.significant, c.reason
     for c in diag.suggestions:  # a friction device: no fluid wording
         assert "fluid" not in c.explanation and "oil" not in c.explanation
+    # a moving mass of 3,536 kg on this 16 kN device (what an earlier ladder added) is implausible
+    from fvd_bridge.diagnose.sizes import effect_size
+
+    mass = effect_size("inertia", {"m": 3536.0}, rec, diag.noise["sigma_d"])
+    assert not mass.plausible and "kg per kN" in mass.why

@@ -15,7 +15,7 @@ from fvd_bridge.catalog import catalog
 from fvd_bridge.effects import EFFECTS
 from fvd_bridge.effects.plugins import load_plugins
 from fvd_bridge.errors import InputError
-from fvd_bridge.laws import LAWS, get_law
+from fvd_bridge.laws import LAWS
 from fvd_bridge.model import parse_model
 from fvd_bridge.records import Record
 from fvd_bridge.rig import Device, acceptance, paper, simulate
