@@ -111,6 +111,15 @@ def test_yaml_config_sets_options(two_devices, tmp_path):
     cfg.write_text("runs: 1\nwibble: 3\n")
     res = calibrate([two_devices[0], "--config", str(cfg), "--out", str(tmp_path / "y")])
     assert res.returncode == 2 and "unknown option 'wibble'" in res.stderr
+    # values are checked as on the command line: one line naming the file and the option
+    for text, words in (("runs: two\n", ["option 'runs'", "invalid int value: 'two'"]),
+                        ("optimizer: pso\n", ["option 'optimizer'", "invalid choice: 'pso'"])):
+        cfg.write_text(text)
+        res = calibrate([two_devices[0], "--config", str(cfg), "--out", str(tmp_path / "z")])
+        err = res.stderr.strip()
+        assert res.returncode == 2 and len(err.splitlines()) == 1 and str(cfg) in err, err
+        assert all(w in err for w in words), err
+        assert not (tmp_path / "z").exists()
 
 
 def test_calibration_file_reproduces_its_of(two_devices, tmp_path):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 
 from ..campaign.outputs import write_outputs
@@ -80,8 +81,37 @@ def parse_bound(text: str) -> tuple:
     return (spec or None, name, lo, hi)
 
 
+def option_parser() -> argparse.ArgumentParser:
+    """calibrate's options (for --config and campaign files), without exiting on a bad value."""
+    p = argparse.ArgumentParser(prog="calibrate", add_help=False, exit_on_error=False)
+    add_campaign_options(p)
+    add_record_options(p)
+    return p
+
+
+def option_tokens(action, value) -> list[str]:
+    """A YAML value of an option as the command-line tokens argparse checks."""
+    flag = action.option_strings[-1]
+    if isinstance(action, argparse._StoreTrueAction):
+        return [flag] if value else []
+    values = value if isinstance(value, list) and isinstance(action, argparse._AppendAction) else [value]
+    if isinstance(value, list) and not isinstance(action, argparse._AppendAction):
+        values = [",".join(str(v) for v in value)]
+    return [f"{flag}={v}" for v in values]
+
+
+def parse_option(parser, action, value, namespace, where: str) -> None:
+    """Parse one YAML option value into ``namespace`` as its command-line form
+    would be (same types and choices); a bad value: one line naming ``where``."""
+    try:
+        parser.parse_args(option_tokens(action, value), namespace=namespace)
+    except argparse.ArgumentError as exc:
+        raise InputError(f"{where}: {exc.message}") from None
+
+
 def apply_config(args) -> None:
-    """Fill options left at their defaults from the --config YAML file."""
+    """Fill options left at their defaults from the --config YAML file, each
+    value checked as the command line checks it."""
     if args.config:
         import yaml
 
@@ -92,14 +122,17 @@ def apply_config(args) -> None:
             raise InputError(f"{args.config}: cannot read ({str(exc).splitlines()[0]})") from None
         if not isinstance(cfg, dict):
             raise InputError(f"{args.config}: expected a mapping of option names to values")
+        parser = option_parser()
+        actions = {a.dest: a for a in parser._actions if a.option_strings}
         for key, value in cfg.items():
             dest = str(key).replace("-", "_")
-            if dest not in args._defaults or dest in ("records", "config", "func", "help"):
+            if dest not in actions or dest == "config":
                 raise InputError(f"{args.config}: unknown option '{key}'")
-            if getattr(args, dest) == args._defaults[dest]:
-                if isinstance(args._defaults[dest], list) and not isinstance(value, list):
-                    value = [value]
-                setattr(args, dest, value)
+            if value is None or getattr(args, dest) != args._defaults[dest]:
+                continue  # the command line wins
+            parsed = parser.parse_args([])
+            parse_option(parser, actions[dest], value, parsed, f"{args.config}: option '{key}'")
+            setattr(args, dest, getattr(parsed, dest))
     if not args.out:
         raise InputError("--out DIR is required (on the command line or in --config)")
 

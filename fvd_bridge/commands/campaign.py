@@ -29,8 +29,8 @@ import os
 import sys
 
 from ..errors import InputError
-from .calibrate import add_campaign_options, campaign_settings, unique_names
-from .common import add_record_options, read_records
+from .calibrate import campaign_settings, option_parser, parse_option, unique_names
+from .common import read_records
 
 #: keys only a campaign file has (calibrate's options are the rest)
 CAMPAIGN_KEYS = ("records", "rig", "models", "acceptance", "outliers", "executor", "scheduler")
@@ -58,24 +58,6 @@ def add_parser(sub):
 
 
 # ------------------------------------------------------------------ the campaign file
-def _option_parser() -> argparse.ArgumentParser:
-    """calibrate's options (one parser for both verbs), without exiting on a bad value."""
-    p = argparse.ArgumentParser(prog="campaign", add_help=False, exit_on_error=False)
-    add_campaign_options(p)
-    add_record_options(p)
-    return p
-
-
-def _tokens(action, value) -> list[str]:
-    flag = action.option_strings[-1]
-    if isinstance(action, argparse._StoreTrueAction):
-        return [flag] if value else []
-    values = value if isinstance(value, list) and isinstance(action, argparse._AppendAction) else [value]
-    if isinstance(value, list) and not isinstance(action, argparse._AppendAction):
-        values = [",".join(str(v) for v in value)]
-    return [f"{flag}={v}" for v in values]
-
-
 def read_campaign_file(path: str) -> tuple[dict, argparse.Namespace]:
     """(campaign-only keys, calibrate's options as a Namespace) of a campaign file."""
     import yaml
@@ -89,7 +71,7 @@ def read_campaign_file(path: str) -> tuple[dict, argparse.Namespace]:
         raise InputError(f"{path}: not valid YAML ({' '.join(str(exc).split())})") from None
     if not isinstance(data, dict):
         raise InputError(f"{path}: expected a mapping of keys to values")
-    parser = _option_parser()
+    parser = option_parser()
     actions = {a.dest: a for a in parser._actions if a.option_strings}
     args = parser.parse_args([])
     own = {}
@@ -106,10 +88,7 @@ def read_campaign_file(path: str) -> tuple[dict, argparse.Namespace]:
                              f"or a calibrate option: {', '.join(sorted(k for k in actions if k not in NOT_IN_FILE))})")
         if value is None:
             continue
-        try:
-            parser.parse_args(_tokens(actions[dest], value), namespace=args)
-        except argparse.ArgumentError as exc:
-            raise InputError(f"{path}: key '{key}': {exc.message}") from None
+        parse_option(parser, actions[dest], value, args, f"{path}: key '{key}'")
     return own, args
 
 
