@@ -132,3 +132,18 @@ def test_delta_beta_pareto_by_hand():
     # (OF, beta): A dominates C; B is better in beta; D is dominated by B
     pts = np.array([[0.1, 0.5], [0.3, 0.1], [0.2, 0.6], [0.4, 0.2]])
     np.testing.assert_array_equal(stats.non_dominated(pts), [True, True, False, False])
+
+
+def test_de_start_is_in_the_first_population():
+    """``start`` seeds DE's first population (the fit ends no worse than it);
+    without it the population is DE's own (one generation ends far from it)."""
+    from fvd_bridge.fit import evaluate_params
+    from fvd_bridge.fit.de import DESettings
+
+    model, rec = synthetic(2)
+    start = np.array(TRUE[2])
+    quick = DESettings(popsize=4, gens=1, polish=False)
+    seeded = fit_model(model, rec, seed=0, settings=quick, start=start)
+    assert seeded.of <= evaluate_params(model, rec, start) + 1e-12
+    plain = fit_model(model, rec, seed=0, settings=quick)
+    assert plain.of > 2.0 * seeded.of

@@ -185,7 +185,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             history.append(("lowered by a candidate's refit", float(of)))
             keep = {c.effect: c for c in found}
     F_model = model.force(record, base_fit.params[None, :])[0]
-    noise = input_noise_floor(model, base_fit.params, record, seed)
+    noise = input_noise_floor(model, base_fit.params, record, seed, F_ref=F_model)
     judge = Judge(noise["floor"], record.n, noise["force_floor"])
     diag = Diagnosis(record.name, model, base_fit, F_model, noise["sigma_F"], judge,
                      where_mod.analyse(record, F_model), noise=noise, base_history=history)

@@ -43,10 +43,11 @@ def displacement_noise(record) -> float:
     return float(value) if value is not None else force_noise(record.d)
 
 
-def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_DRAWS) -> dict:
+def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_DRAWS, F_ref=None) -> dict:
     """{'floor': OF_floor, 'force_floor': the force-only floor, 'sigma_F' [kN],
     'sigma_d' [mm], 'sigma_v' [mm/s] (median velocity noise)} of ``model``
-    at ``params`` on ``record`` (module docstring)."""
+    at ``params`` on ``record`` (module docstring); ``F_ref`` its force on
+    the record, when already computed."""
     sigma_F = force_noise(record.F)
     sigma_d = displacement_noise(record)
     force_only = noise_floor(sigma_F, record.F)
@@ -55,7 +56,7 @@ def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_D
     if not np.isfinite(sigma_F) or not np.isfinite(sigma_d):
         return out
     p = np.asarray(params, dtype=float)[None, :]
-    F_ref = model.force(record, p)[0]
+    F_ref = model.force(record, p)[0] if F_ref is None else F_ref
     rng = np.random.default_rng([int(seed), 1789])
     ofs, dv = [], []
     for _ in range(draws):

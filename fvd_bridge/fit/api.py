@@ -54,21 +54,10 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     bounds; the fit ends no worse than them).  ``mask``: fit the OF of those
     samples only (boolean (n_t,); the model still runs over the whole record).
     """
-    if isinstance(bounds, str):
-        mode, b = bounds, model.bounds(bounds, record.scales())
-    else:
-        mode, b = "custom", np.asarray(bounds, dtype=float)
-    b = apply_overrides(model, b, overrides or {})
-    space = Space.of(b, model.log_scale(mode) if mode == "auto" else None)
+    mode, b, space, evaluate = _problem(model, record, bounds, overrides, mask, substeps)
     settings = settings or settings_for(optimizer)
     rng = np.random.default_rng(seed)
-
-    def evaluate(X):
-        F = model.force(record, space.to_params(X), substeps)
-        of = objective(record.F, F, record.t, mask)
-        return np.where(np.isfinite(of), of, np.inf)
-
-    start = time.perf_counter()
+    t0 = time.perf_counter()
     if optimizer == "de":
         x0 = None if start is None else space.to_unit(np.clip(start, b[:, 0], b[:, 1]))
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
@@ -84,8 +73,25 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     return FitResult(spec=model.spec, names=model.names, units=model.units,
                      params=space.to_params(x), of=float(of), bounds=b, bounds_mode=mode,
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
-                     wall_s=time.perf_counter() - start, record=record.name,
+                     wall_s=time.perf_counter() - t0, record=record.name,
                      log=[bool(x) for x in space.log], off=model.off_values())
+
+
+def _problem(model, record, bounds, overrides=None, mask=None, substeps: int = 1):
+    """(bounds mode, bounds (n_par, 2), the unit-cube Space, evaluate(X) -> OF
+    (eq. 18 of the ``mask``ed samples, inf where not finite)) of one fit."""
+    if isinstance(bounds, str):
+        mode, b = bounds, model.bounds(bounds, record.scales())
+    else:
+        mode, b = "custom", np.asarray(bounds, dtype=float)
+    b = apply_overrides(model, b, overrides or {})
+    space = Space.of(b, model.log_scale(mode) if mode == "auto" else None)
+
+    def evaluate(X):
+        of = objective(record.F, model.force(record, space.to_params(X), substeps), record.t, mask)
+        return np.where(np.isfinite(of), of, np.inf)
+
+    return mode, b, space, evaluate
 
 
 def polish_model(model, record, start: np.ndarray, mask: np.ndarray | None = None, max_evals: int = 1000,
@@ -95,18 +101,11 @@ def polish_model(model, record, start: np.ndarray, mask: np.ndarray | None = Non
     worse than ``start``'s."""
     from .de import polish
 
-    b = model.bounds(bounds, record.scales())
-    space = Space.of(b, model.log_scale(bounds) if bounds == "auto" else None)
+    _, b, space, evaluate = _problem(model, record, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
-
-    def evaluate(X):
-        of = objective(record.F, model.force(record, space.to_params(X)), record.t, mask)
-        return np.where(np.isfinite(of), of, np.inf)
-
-    of0 = float(evaluate_params(model, record, start, mask))
+    of0 = evaluate_params(model, record, start, mask)
     x, of = polish(evaluate, space.to_unit(start), of0, max_evals, [0])
-    params = space.to_params(x)
-    return (start, of0) if of0 <= of else (params, float(of))
+    return (start, of0) if of0 <= of else (space.to_params(x), float(of))
 
 
 def evaluate_params(model, record, params, mask: np.ndarray | None = None) -> float:
