@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from fvd_bridge.fit import fit_model, noise_floor
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import parse_model
 from fvd_bridge.records.cycles import force_noise
 from fvd_bridge.rig import DEMO_NOISE, Noise, demo_series, paper, simulate
 

@@ -225,9 +225,9 @@ def main(argv=None) -> int:
     from fvd_bridge.export.fmu import build_fmu
     from fvd_bridge.export.opensees import opensees_export
     from fvd_bridge.fit.objective import objective
-    from fvd_bridge.frames.motions import read_motion
+    from fvd_bridge.records.motions import read_motion
     from fvd_bridge.golden import REFERENCE
-    from fvd_bridge.model import parse_model
+    from fvd_bridge.catalog import parse_model
 
     motion = read_motion(RECORD)
     if args.duration:

@@ -90,9 +90,9 @@ def main(argv=None) -> int:
     from fvd_bridge.frames.analysis import run_frame
     from fvd_bridge.frames.buildings import three_story
     from fvd_bridge.frames.cosim import cosimulate_frame
-    from fvd_bridge.frames.motions import read_motion
+    from fvd_bridge.records.motions import read_motion
     from fvd_bridge.golden import REFERENCE
-    from fvd_bridge.model import parse_model
+    from fvd_bridge.catalog import parse_model
 
     motion = read_motion(RECORD)
     if args.duration:

@@ -1,7 +1,7 @@
 """The Python entry points a notebook user needs, each one call.
 
     rec = read_record("dev1.csv")                 # fvd_bridge.records
-    m = Model.from_spec("2+friction")              # law + effects
+    m = parse_model("2+friction")                  # law + effects
     cal = calibrate(rec, m, runs=3, seed=0)        # best of 3 seeded fits -> Calibration
     cal.save("law2+friction.yaml"); Calibration.load("law2+friction.yaml")
     diag = diagnose_record(rec, "2")               # where it fails, what is missing

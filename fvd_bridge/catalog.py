@@ -16,6 +16,7 @@ from .effects.base import Effect
 from .effects.catalog import EFFECTS
 from .errors import InputError
 from .laws import LAWS, get_law
+from .model import Model
 
 
 class Catalog:
@@ -40,8 +41,6 @@ class Catalog:
 
     def model(self, spec):
         """'2', 'law2' or '2+friction+series_stiffness' -> Model (``fvd_bridge.model``)."""
-        from .model import Model
-
         text = str(spec).strip()
         law_key, *effect_names = [s.strip() for s in text.split("+")]
         model = Model(self.law(law_key))
@@ -57,6 +56,12 @@ def _cached(paths: tuple) -> Catalog:
     from .effects.plugins import load_plugins
 
     return Catalog(load_plugins(list(paths)), paths)
+
+
+def parse_model(spec, catalog: Catalog | None = None) -> Model:
+    """'2', 'law2' or '2+friction+series_stiffness' -> Model, from ``catalog``
+    (default: the built-in laws and effects)."""
+    return (catalog or _cached(())).model(spec)
 
 
 def catalog(plugin_paths=()) -> Catalog:

@@ -1,4 +1,4 @@
-"""Golden force histories of the nine laws and of models (law + effects),
+"""Golden force histories of the laws and of models (law + effects),
 for checking other implementations.
 
 The OpenSees and FMU exporters (and the tests) compare their force against
@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .effects.catalog import BUILTIN
 from .laws import LAWS
 
 DT = 0.001  # [s]
@@ -31,31 +32,11 @@ FADE = 0.25  # [s]
 WAVES = ((20.0, 1.0), (5.0, 5.0))  # (amplitude [mm], frequency [Hz])
 GOLDEN_DIR = Path(__file__).resolve().parents[1] / "tests" / "golden"
 
-# one realistic parameter set per law, for a 300 kN class damper (kN, mm, s);
-# law 7 has beta = 1: the Maxwell model of OpenSees' ViscousDamper
-REFERENCE = {
-    1: (0.6,),
-    2: (45.0, 0.3),
-    3: (45.0, 0.3, 5.0),
-    4: (45.0, 0.3, 5.0, 0.1),
-    5: (45.0, 0.3, 2.0, 1.2),
-    6: (0.25, 60.0, 0.01, 0.08),
-    7: (45.0, 0.3, 100.0, 1.0),
-    8: (0.25, 30.0, 0.5, 330.0),
-    9: (0.2, 0.15, 27.0),
-}
-
-
+# one realistic parameter set per law and per effect (each declared with it:
+# ``Law.reference``, ``Effect.reference``), for a 300 kN class damper (kN, mm, s)
+REFERENCE = {number: law.reference for number, law in LAWS.items()}
 #: effect parameters of the model goldens, by effect name (values in the effect's units)
-EFFECT_REFERENCE = {
-    "gap": (1.0,),                       # g [mm]
-    "series_stiffness": (50.0,),         # Ks [kN/mm]: a clear Maxwell lag
-    "asymmetry": (0.1,),                 # r [-]
-    "thermal_softening": (5.0,),         # theta [1/MJ]: about 10% force loss over the record
-    "friction": (5.0,),                  # Ff [kN]
-    "parallel_stiffness": (1.0, 3.0),    # Kp [kN/mm], F0 [kN]
-    "inertia": (1000.0,),                # m [kg]
-}
+EFFECT_REFERENCE = {e.name: e.reference for e in BUILTIN}
 #: the model goldens: each effect on law 2 and on law 9, and combinations
 MODEL_SPECS = tuple(f"{law}+{e}" for law in (2, 9) for e in EFFECT_REFERENCE) + (
     "2+series_stiffness+friction", "9+gap+friction", "2+gap+series_stiffness+asymmetry",
@@ -138,8 +119,8 @@ def golden_record(columns: dict):
 
 
 def write_golden(directory=GOLDEN_DIR) -> list[Path]:
-    """Write law<SPEC>.csv for the nine laws and the MODEL_SPECS into ``directory``."""
-    from .model import parse_model
+    """Write law<SPEC>.csv for every law and the MODEL_SPECS into ``directory``."""
+    from .catalog import parse_model
 
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)

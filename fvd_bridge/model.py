@@ -3,8 +3,10 @@ parameter vector layout (law parameters, then 'effect.param'), derived
 quantities, and the operations that add or remove an effect.
 
 A Model is the interface: no module builds or splits a spec string itself.
-Models come from ``fvd_bridge.catalog`` (``catalog().model(spec)`` or
-``parse_model(spec)``).
+Models come from ``fvd_bridge.catalog`` (``parse_model(spec)`` or
+``catalog(plugins).model(spec)``).  What a model can be exported to is read
+from its law's and effects' declarations (``exports``, ``opensees_refusal``),
+never by trying an exporter.
 """
 
 from __future__ import annotations
@@ -13,8 +15,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .effects.compose import composed_force, inside_connection
 from .errors import InputError
 from .laws import Law
+
+#: the export targets a model may reach
+TARGETS = ("opensees", "fmu")
 
 
 @dataclass(frozen=True)
@@ -23,11 +29,6 @@ class Model:
 
     law: Law
     effects: tuple = field(default_factory=tuple)
-
-    @classmethod
-    def from_spec(cls, spec: str, plugins=()) -> "Model":
-        """'2', '9+gap' or '2+series_stiffness+friction' -> Model; ``plugins``: effect files."""
-        return parse_model(spec, _catalog(plugins))
 
     @property
     def spec(self) -> str:
@@ -62,6 +63,9 @@ class Model:
         """This model plus ``effect`` (an Effect); a repeated effect or a clashing
         parameter name is an input error (quoting ``spec_text`` when given)."""
         text = spec_text or f"{self.spec}+{effect.name}"
+        if effect.stage == "series" and not self.law.connection:
+            raise InputError(f"model '{text}': law {self.law.key} ({self.law.name}) cannot sit behind "
+                             f"'{effect.name}' (its step form has no connection)")
         if self.has(effect.name):
             raise InputError(f"model '{text}': effect '{effect.name}' appears twice")
         model = Model(self.law, self.effects + (effect,))
@@ -119,18 +123,48 @@ class Model:
                              f"({', '.join(self.names)}), got {P.shape[1]}")
         if not self.effects:
             return self.law.force(record.d, record.v, record.dt, P, substeps)
-        from .effects.compose import composed_force
-
         return composed_force(self, record, P, substeps)
 
+    def active_effects(self, params: dict | None = None) -> list:
+        """The effects not switched off by ``params`` ({name: value}; None: all)."""
+        if params is None:
+            return list(self.effects)
+        return [e for e in self.effects
+                if not e.off(np.array([[float(params[n]) for n in e.names]]))[0]]
 
-def parse_model(spec, catalog=None) -> Model:
-    """'2', 'law2' or '2+friction+series_stiffness' -> Model, from ``catalog``
-    (``fvd_bridge.catalog.Catalog``; default: the built-in laws and effects)."""
-    return (catalog or _catalog()).model(spec)
+    def opensees_refusal(self, params: dict | None = None) -> str:
+        """Why OpenSees cannot express this model ('' when it can), from the
+        law's and effects' OpenSees forms; with ``params`` ({name: value})
+        effects at their 'off' values are left out and the law's form may
+        refuse parameter values (law 7 with beta != 1)."""
+        law, form = self.law, self.law.opensees
+        if form is None:
+            return f"law {law.key} ({law.name})"
+        if params is not None and form.refuse:
+            reason = form.refuse({n: float(params[n]) for n in law.names})
+            if reason:
+                return reason
+        active = self.active_effects(params)
+        inside = inside_connection(Model(law, tuple(active)))
+        series = [e for e in active if e.stage == "series"]
+        for e in active:
+            if e.opensees is None:
+                return e.no_opensees or f"effect '{e.name}' ({e.source})"
+            if e.stage == "series" and form.series is None:
+                return f"law {law.key} behind {e.name}"
+            if series and e.stage != "series" and e.name in inside:
+                return f"{e.name} inside the series spring"
+            if e.opensees.needs_stateless and not form.stateless:
+                return f"{e.name} of law {law.key} (TensionOnly loses its state in compression)"
+        return ""
 
+    def fmu_refusal(self) -> str:
+        """Why the FMU cannot carry this model ('' when it can)."""
+        if not self.law.fmu:
+            return f"law {self.law.key} ({self.law.name}) has no C step form"
+        missing = [e for e in self.effects if not e.fmu]
+        return f"effect '{missing[0].name}' ({missing[0].source}) has no C step form" if missing else ""
 
-def _catalog(plugins=()):
-    from .catalog import catalog
-
-    return catalog(plugins)
+    def exports(self, params: dict | None = None) -> dict:
+        """{target: why not ('' when it exports)} for 'opensees' and 'fmu'."""
+        return {"opensees": self.opensees_refusal(params), "fmu": self.fmu_refusal()}

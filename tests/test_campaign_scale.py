@@ -228,10 +228,10 @@ def test_near_zero_mean_is_reported_and_kept_out_of_beta():
     ((0.100, 0.102, 0.104), False),   # 3 runs, 4%
 ])
 def test_runs_disagree_with_two_or_three_runs(ofs, flagged):
-    from fvd_bridge.model import Model
+    from fvd_bridge.catalog import parse_model
 
     runs = [fit("2", ["C", "alpha"], [45.0, 0.3], of, [[0, 900], [0, 1]]) for of in ofs]
-    codes = [w["code"] for w in checks.fit_warnings(Model.from_spec("2"), runs)]
+    codes = [w["code"] for w in checks.fit_warnings(parse_model("2"), runs)]
     assert ("runs_disagree" in codes) is flagged
     assert stats.relative_range(ofs) == pytest.approx((max(ofs) - min(ofs)) / min(ofs))
     if ofs == (0.1921, 0.2023):
@@ -252,11 +252,11 @@ def test_robust_outliers():
 
 def test_acceptance_force_at_the_design_velocity():
     from fvd_bridge.campaign.acceptance import Acceptance, design_motion, forces_at_velocity
-    from fvd_bridge.model import Model
+    from fvd_bridge.catalog import parse_model
 
     acc = Acceptance(velocity=400.0)
     motion = design_motion(acc, amplitude=30.0, dt=0.002)
     assert np.max(motion.v) == pytest.approx(400.0, rel=1e-4)
     P = np.array([[45.0, 0.3], [50.0, 0.3]])
-    F = forces_at_velocity(Model.from_spec("2").force(motion, P), motion.v)
+    F = forces_at_velocity(parse_model("2").force(motion, P), motion.v)
     assert F == pytest.approx(np.repeat(P[:, :1] * 400.0 ** 0.3, 2, axis=1), rel=1e-4)  # tension, compression

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from fvd_bridge.laws import LAWS
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import parse_model
 from fvd_bridge.records import Record
 
 C2, ALPHA2 = 45.4, 0.3

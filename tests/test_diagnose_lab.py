@@ -178,17 +178,18 @@ def test_undetectable_gap_is_not_suggested(folder):
     from fvd_bridge.diagnose.sizes import effect_size
 
     rec = rig_lab("paper", "none", 0.02, folder)
-    size = effect_size("gap", {"g": 0.04}, rec, 0.02)
+    gap = catalog().effect("gap")
+    size = effect_size(gap, {"g": 0.04}, rec, 0.02)
     assert not size.detectable and "resolves" in size.why
-    assert effect_size("gap", {"g": 1.0}, rec, 0.02).detectable
+    assert effect_size(gap, {"g": 1.0}, rec, 0.02).detectable
 
 
 def test_wording_follows_the_device_kind():
     from fvd_bridge.diagnose.sizes import explanation
 
-    e = catalog().effects["parallel_stiffness"]
-    assert "fluid" in explanation(e, 2)
-    assert "fluid" not in explanation(e, 9) and "friction" in explanation(e, 9)
+    e, laws = catalog().effects["parallel_stiffness"], catalog().laws
+    assert "fluid" in explanation(e, laws[2])
+    assert "fluid" not in explanation(e, laws[9]) and "friction" in explanation(e, laws[9])
 
 
 # ------------------------------------------------------------------ the shared friction damper
@@ -229,5 +230,5 @@ def test_real_friction_damper_credits_no_switched_off_effect(friction_damper):
     # a moving mass of 3,536 kg on this 16 kN device (what an earlier ladder added) is implausible
     from fvd_bridge.diagnose.sizes import effect_size
 
-    mass = effect_size("inertia", {"m": 3536.0}, rec, diag.noise["sigma_d"])
+    mass = effect_size(catalog().effect("inertia"), {"m": 3536.0}, rec, diag.noise["sigma_d"])
     assert not mass.plausible and "kg per kN" in mass.why

@@ -16,7 +16,7 @@ from fvd_bridge.effects import EFFECTS
 from fvd_bridge.effects.plugins import load_plugins
 from fvd_bridge.errors import InputError
 from fvd_bridge.laws import LAWS
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import parse_model
 from fvd_bridge.records import Record
 from fvd_bridge.rig import Device, acceptance, paper, simulate
 from conftest import PLUGIN

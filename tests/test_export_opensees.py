@@ -14,12 +14,12 @@ pytest.importorskip("openseespy.opensees")
 from fvd_bridge.calibration import Calibration  # noqa: E402
 from fvd_bridge.errors import InputError  # noqa: E402
 from fvd_bridge.export import apply, opensees_export, to_script  # noqa: E402
-from fvd_bridge.export.opensees import (EXACT_OF, FRICTION_TABLE_ERROR, HYSTERESIS_OF_RATE,  # noqa: E402
-                                        friction_table, step_ratio)
+from fvd_bridge.effects.opensees_forms import FRICTION_TABLE_ERROR, friction_table  # noqa: E402
+from fvd_bridge.export.opensees import EXACT_OF, HYSTERESIS_OF_RATE, step_ratio  # noqa: E402
 from fvd_bridge.export.opensees_check import check, drive_element  # noqa: E402
 from fvd_bridge.fit.objective import objective  # noqa: E402
 from fvd_bridge.golden import GOLDEN_DIR, read_golden  # noqa: E402
-from fvd_bridge.model import parse_model  # noqa: E402
+from fvd_bridge.catalog import parse_model  # noqa: E402
 
 EXACT_LAWS = (1, 2, 3, 4, 5, 7, 8)
 OFF = {"series_stiffness.Ks": 1e6, "gap.g": 0.0, "thermal_softening.theta": 0.0, "inertia.m": 0.0,

@@ -7,7 +7,7 @@ import pytest
 from fvd_bridge.campaign import stats
 from fvd_bridge.fit import fit_model, noise_floor, objective
 from fvd_bridge.fit.ga import GASettings, run_ga
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import parse_model
 from fvd_bridge.records import Record
 
 # realistic parameters of a 300 kN damper, inside the 'auto' bounds

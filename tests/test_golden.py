@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from fvd_bridge.golden import GOLDEN_DIR, MODEL_SPECS, golden_record, read_golden, reference_params, write_golden
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import parse_model
 
 
 @pytest.mark.parametrize("spec", MODEL_SPECS)

@@ -26,7 +26,7 @@ from fvd_bridge.errors import InputError
 from fvd_bridge.fit.space import Space
 from fvd_bridge.golden import GOLDEN_DIR, MODEL_SPECS, read_golden
 from fvd_bridge.laws.scalar import history
-from fvd_bridge.model import parse_model
+from fvd_bridge.catalog import parse_model
 from fvd_bridge.records import Record
 
 MEMBERS = 10

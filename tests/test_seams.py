@@ -13,9 +13,8 @@ import yaml
 
 from conftest import CLI, PLUGIN, cli_env
 from fvd_bridge.calibration import Calibration
-from fvd_bridge.catalog import catalog
+from fvd_bridge.catalog import catalog, parse_model
 from fvd_bridge.errors import InputError
-from fvd_bridge.model import Model
 from fvd_bridge.records import read_record
 from fvd_bridge.rig import Device, Noise, paper, simulate
 
@@ -36,7 +35,7 @@ def lab_csv(tmp_path_factory):
 
 # ------------------------------------------------------------- models as objects
 def test_model_operations_nest_and_refuse_clashes():
-    base = Model.from_spec("2")
+    base = parse_model("2")
     m = base.with_effect(catalog().effect("friction")).with_effect(catalog().effect("gap"))
     assert m.spec == "2+friction+gap" and m.names == ["C", "alpha", "friction.Ff", "gap.g"]
     assert m.without_effect("gap").spec == "2+friction" and m.columns_without("friction") == [0, 1, 3]
@@ -44,7 +43,7 @@ def test_model_operations_nest_and_refuse_clashes():
         m.with_effect(catalog().effect("gap"))
     with pytest.raises(InputError, match="has no effect 'inertia'"):
         m.without_effect("inertia")
-    law8 = Model.from_spec("8+asymmetry")
+    law8 = parse_model("8+asymmetry")
     assert law8.derived([0.1, 50.0, 0.4, 250.0, 0.1]) == {"mu*N": (pytest.approx(100.0), "kN")}
     # the effect switched off reproduces the model without it, row by row
     rec = simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), seed=0)

@@ -210,9 +210,8 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
         c.improvement = float((base_fit.of - c.of) / base_fit.of) if base_fit.of > 0 else 0.0
         F = c.model.force(record, c.fit.params[None, :])[0]
         ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, len(e.parameters), record.F - F)
-        c.size = sizes.effect_size(e.name, sizes.effect_values(c.model, c.fit.params, e.name), record, sigma_d) \
-            if e.source == "built-in" else sizes.Size(", ".join(c.model.names[len(base_model.names):]))
-        c.explanation = f"{sizes.explanation(e, base_model.law.number)} ({c.size.text})"
+        c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), record, sigma_d)
+        c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
         if ok and c.off_of - c.of <= judge.margin:
             ok, reason = False, f"the refit switched the effect off (OF {c.off_of:.4g} without it)"
         if ok and not c.size.detectable:

@@ -30,11 +30,12 @@ tension.  Within a stage effects apply in increasing ``order`` (built-ins:
 gap 10, series_stiffness 20, asymmetry 40, thermal_softening 50, friction 60,
 parallel_stiffness 70, inertia 80; a user effect defaults to 100).
 
-With a series spring or gap the built-in asymmetry, thermal_softening and
-friction belong to the internal element that the connection carries
-(``series_slot`` names the argument of the series kernel that takes them;
-behind a gap parallel_stiffness too, compose.BEHIND_GAP); a user effect is
-then applied outside the connection.
+The series stage is the connection (``connection.py``): a built-in effect
+declares which of its arguments its parameters fill (``slots``); an effect
+whose ``inside_with`` names a connection effect of the model is solved inside
+that connection, on the law's own motion (asymmetry, heating and friction
+behind a series spring or gap; the accumulator behind a gap only); a user
+effect is then applied outside the connection.
 """
 
 from __future__ import annotations
@@ -44,11 +45,25 @@ from typing import Callable
 
 import numpy as np
 
-from ..laws.base import Parameter
+from ..laws.base import OpenSeesForm, Parameter
 
 STAGES = ("input", "series", "output", "parallel")
 
-__all__ = ["Effect", "Parameter", "STAGES"]
+__all__ = ["Effect", "OpenSeesForm", "Parameter", "STAGES", "Size"]
+
+
+@dataclass(frozen=True)
+class Size:
+    """One fitted effect in physical terms (an effect's ``size``)."""
+
+    text: str  # "gap 1.97 mm (7.9% of the stroke)"
+    detectable: bool = True
+    plausible: bool = True
+    why: str = ""  # why not detectable / not plausible
+
+
+def _all_off(effect, values: np.ndarray) -> np.ndarray:
+    return np.all(values == np.asarray(effect.none, dtype=float), axis=1)
 
 
 @dataclass(frozen=True)
@@ -59,7 +74,20 @@ class Effect:
     opposing motion"); ``symptom`` and ``cause``: how the misfit looks and why,
     in the user's words, joined by diagnose into "SYMPTOM: CAUSE; add NAME";
     ``none``: parameter values [units] that switch the effect off (inside the
-    bounds, so the model without the effect is nested in the one with it).
+    bounds, so the model without the effect is nested in the one with it);
+    ``off(values)``: which rows (pop, n_par) are switched off (default: at
+    ``none``; a gap closed at g <= 0, a spring rigid from KS_RIGID).
+
+    Capabilities (read by composition, diagnose and the exporters):
+    ``slots``: the connection kernel's arguments its parameters fill;
+    ``inside_with``: connection effects inside which it is solved;
+    ``size(values, scales)``: the fitted effect in physical terms
+    (``Size``; values {param: value}, scales the record's peaks F, d, v, a,
+    dt, its displacement noise sigma_d and dissipated energy W [MJ]);
+    ``cause_hysteretic``: the cause in words for a friction or hysteretic
+    device; ``reference``: parameter values of the golden files;
+    ``opensees``: its OpenSees form (None: not expressible, ``no_opensees``
+    says why); ``fmu``: the FMU's C code carries it.
     """
 
     name: str
@@ -73,7 +101,15 @@ class Effect:
     cause: str = "a missing physical effect"
     order: int = 100
     source: str = "built-in"
-    series_slot: str = ""
+    slots: tuple = ()
+    inside_with: tuple = ()
+    off_rule: Callable | None = None
+    size: Callable | None = None
+    cause_hysteretic: str = ""
+    reference: tuple = ()
+    opensees: OpenSeesForm | None = None
+    no_opensees: str = ""
+    fmu: bool = False
 
     @property
     def names(self) -> list[str]:
@@ -83,6 +119,11 @@ class Effect:
     def bounds(self, scales: dict) -> np.ndarray:
         """(n_par, 2) search bounds from the record's peak F [kN], v [mm/s], d [mm]."""
         return np.asarray([p.auto(scales) for p in self.parameters], dtype=float).reshape(-1, 2)
+
+    def off(self, values) -> np.ndarray:
+        """Rows of ``values`` (pop, n_par) in which the effect is switched off."""
+        values = np.atleast_2d(np.asarray(values, dtype=float))
+        return self.off_rule(values) if self.off_rule else _all_off(self, values)
 
     def explanation(self) -> str:
         """'force lags the velocity at reversals: the fluid is compressible; add series_stiffness'."""

@@ -1,4 +1,7 @@
-"""The seven built-in physical effects (their fingerprints: README, "Physical effects").
+"""The seven built-in physical effects, declared as data (``base.Effect``):
+parameters, stage, equation, fingerprints (README, "Physical effects"), the
+connection slots they fill, their physical size, golden reference values and
+export targets.
 
 Each effect's equation lives in the docstring of the function that computes
 it.  Bounds scale with the record: F = peak force [kN], v = peak velocity
@@ -12,9 +15,10 @@ import math
 
 import numpy as np
 
-from ..laws.base import Parameter
-from . import steps
+from ..laws.base import OpenSeesForm, Parameter
+from . import connection, sizes, steps
 from .base import Effect
+from .opensees_forms import asymmetric, friction, parallel_spring
 
 #: smoothing velocity of the friction term [mm/s] (fixed, not fitted)
 FRICTION_V_F = steps.FRICTION_V_F
@@ -34,59 +38,49 @@ def _rows(x):
 
 
 # ------------------------------------------------------------------ series
-def _connection(law_number, PL, x, xv, xa, dt, Ks, g, r, theta, Ff, Kp, F0, substeps):
-    c = np.ascontiguousarray
-    return steps.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float), c(xa, dtype=float),
-                                     float(dt), c(Ks, dtype=float), c(g, dtype=float), c(PL, dtype=float),
-                                     c(r, dtype=float), c(theta, dtype=float), c(Ff, dtype=float),
-                                     c(Kp, dtype=float), c(F0, dtype=float), int(substeps))
-
-
-def gap_force(P, law_number, PL, x, xv, xa, dt, Ks, r, theta, Ff, Kp, F0, substeps=1):
-    """Pin clearance g [mm] (total; h = g/2 on each side): a contact gap in
+def connection_force(law_number, PL, x, xv, xa, dt, slots: dict, substeps=1):
+    """The damper's connection: a spring Ks [kN/mm] (series_stiffness: fluid
+    compressibility and connection flexibility) whose force has the dead
+    zone of a pin clearance g [mm] (gap: total, h = g/2 on each side), in
     series with the internal element (the law with asymmetry r, heating
-    theta, friction Ff and the parallel spring Kp [kN/mm], F0 [kN]; zeros
-    when those effects are absent), for any law 1-9:
+    theta, friction Ff and, behind a gap, the parallel spring Kp [kN/mm],
+    F0 [kN]), a Maxwell model for any law whose ``connection`` capability
+    is set:
 
       F = Ks dz(w, h) = F_int(x_o, dx_o/dt),  w = x - x_o,
       dz(w, h) = w - h (w > h),  w + h (w < -h),  0 (|w| <= h),
 
     x, xv, xa the pin's motion (the record's d, v, a), x_o the law's
-    displacement, Ks [kN/mm] per row: series_stiffness's Ks (a spring and
-    the gap in series: a dead-zone spring) or inf (a rigid contact: in
-    contact w = +-h and the law moves with the pin, steps.series_stage).
-    No force passes in the clearance: there F_int = 0, so a viscous law
-    holds still and a friction or hysteretic element unloads through its
-    own dashpot and state.  Contact holds while the force keeps its sign;
-    when it would reverse, the connection opens, F = 0 until the pin has
-    crossed the clearance (a dead band of pin travel about g after each
-    force reversal), then contact closes on the other side.  The pin starts
-    centred.  Solved by steps.series_population (TR-BDF2, one scalar
-    root-find per stage, a step cut where the contact closes).  Returns
-    the force [kN], the law's velocity [mm/s], its force with asymmetry and
-    heating [kN] and its displacement [mm], each (pop, n_t).  g <= 0 is no
-    gap (handled by the composition: the model without it)."""
-    return _connection(law_number, PL, x, xv, xa, dt, Ks, P[:, 0], r, theta, Ff, Kp, F0, substeps)
+    displacement.  ``slots``: {slot: (pop,) values} of the connection's
+    arguments (Ks, g, r, theta, Ff, Kp, F0), filled by the model's effects
+    (``Effect.slots``), the others at their 'off' values (SLOT_OFF: Ks = inf
+    with a gap alone, a rigid contact: in contact w = +-h and the law moves
+    with the pin, connection.series_stage; g = 0, a plain spring).  No
+    force passes in the clearance: there F_int = 0, so a viscous law holds
+    still and a friction or hysteretic element unloads through its own
+    dashpot and state.  Contact holds while the force keeps its sign; when
+    it would reverse, the connection opens, F = 0 until the pin has crossed
+    the clearance (a dead band of pin travel about g after each force
+    reversal), then contact closes on the other side.  The pin starts
+    centred.  Solved by connection.series_population (TR-BDF2, one scalar
+    root-find per stage, a step cut where the contact closes).  Returns the
+    force [kN], the law's velocity [mm/s], its force with asymmetry and
+    heating [kN] and its displacement [mm], each (pop, n_t).  A closed gap
+    (g <= 0) or a rigid spring (Ks >= KS_RIGID) is handled by the
+    composition: the model without it."""
+    c = np.ascontiguousarray
+    f = {k: c(v, dtype=float) for k, v in slots.items()}
+    return connection.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float),
+                                        c(xa, dtype=float), float(dt), f["Ks"], f["g"], c(PL, dtype=float),
+                                        f["r"], f["theta"], f["Ff"], f["Kp"], f["F0"], int(substeps))
 
 
-def series_force(P, law_number, PL, x, xv, xa, dt, r, theta, Ff, substeps=1):
-    """Fluid compressibility and connection flexibility, Ks [kN/mm]: a spring
-    in series with the internal element (the law with asymmetry r, heating
-    theta and friction Ff; zeros when those effects are absent), a Maxwell
-    model for any law 1-9:
+def _gap_closed(values):
+    return values[:, 0] <= 0.0
 
-      F = Ks (x - x_o) = element(x_o, dx_o/dt),
 
-    x, xv, xa the pin's motion (the record's d, v, a), x_o the law's own
-    displacement.  Solved per step by TR-BDF2 with one scalar root-find per
-    stage (steps.series_population).  Returns the force through the spring
-    [kN], the law's velocity [mm/s], the law's force with asymmetry and
-    heating [kN] and the law's displacement [mm], each (pop, n_t).
-    Ks >= KS_RIGID is a rigid connection (handled by the composition: the
-    model without it).  With a gap the composition calls gap_force, whose
-    spring has the gap's dead zone."""
-    zeros = np.zeros(P.shape[0])
-    return _connection(law_number, PL, x, xv, xa, dt, P[:, 0], zeros, r, theta, Ff, zeros, zeros, substeps)
+def _spring_rigid(values):
+    return values[:, 0] >= KS_RIGID_FROM
 
 
 # ------------------------------------------------------------------ output
@@ -114,7 +108,7 @@ def friction_force(P, t, x, xv, xa):
     """Seal friction Ff [kN]: + Ff tanh(u / v_f), v_f = FRICTION_V_F = 1 mm/s
     (Coulomb friction smoothed over 1 mm/s), u the law's velocity (the
     pin's velocity xv without a series spring or gap; with one the term is
-    solved inside the connection, steps.element_force)."""
+    solved inside the connection, element.element_force)."""
     return steps.friction_terms(_col(P, 0), np.asarray(xv))  # (steps.friction_term)
 
 
@@ -122,7 +116,7 @@ def parallel_force(P, t, x, xv, xa):
     """Accumulator (gas spring) and preload: + Kp x + F0, Kp [kN/mm], F0 [kN],
     x [mm] the pin's displacement d.  With a gap the accumulator is behind
     the clearance (no force passes there at all): the term is solved inside
-    the connection on the law's displacement x_o (gap_force)."""
+    the connection on the law's displacement x_o (connection_force)."""
     return steps.parallel_springs(_col(P, 0), _col(P, 1), np.asarray(x))  # (steps.parallel_spring)
 
 
@@ -145,9 +139,12 @@ def _cycle_energy(s):  # dissipated energy of one full cycle [MJ], about pi F d
     return math.pi * s["F"] * s["d"] * 1e-6
 
 
+#: connections can carry every built-in element effect inside them
+CONNECTIONS = ("gap", "series_stiffness")
+
 BUILTIN = (
     Effect(
-        name="gap", stage="series", order=10, function=gap_force, none=(0.0,),
+        name="gap", stage="series", order=10, function=None, none=(0.0,), slots=("g",), off_rule=_gap_closed,
         parameters=(Parameter("g", "mm", (0.0, 5.0), lambda s: (0.0, 0.2 * s["d"]),
                               "pin clearance (total, g/2 on each side)"),),
         equation="F = Ks dz(d - x, g/2) = element(x, dx/dt), dz(w, h) = w - h (w > h), w + h (w < -h), "
@@ -155,9 +152,13 @@ BUILTIN = (
         summary="connection gap: pins and clevises have clearance; no force passes while the pin crosses it "
                 "after each force reversal, then contact closes on the other side",
         symptom="force stays near zero just after each reversal (a plateau in the loop)",
-        cause="the connection has clearance (play)"),
+        cause="the connection has clearance (play)",
+        cause_hysteretic="the connection has play: no force passes while the pin crosses its clearance",
+        size=sizes.gap, reference=(1.0,), fmu=True,
+        no_opensees="the pin gap (a contact gap in series with the law: no force in the clearance)"),
     Effect(
-        name="series_stiffness", stage="series", order=20, function=series_force, none=(math.inf,),
+        name="series_stiffness", stage="series", order=20, function=None, none=(math.inf,), slots=("Ks",),
+        off_rule=_spring_rigid,
         parameters=(Parameter("Ks", "kN/mm", (10.0, KS_RIGID),
                               lambda s: (min(0.3 * _stiff(s), 1e-3 * KS_RIGID), KS_RIGID),
                               f"spring in series with the law (oil, seals, rod, frame); "
@@ -166,33 +167,47 @@ BUILTIN = (
         summary="fluid compressibility / series flexibility: a spring in series with the orifice "
                 "(Maxwell model)",
         symptom="force lags the velocity at reversals (tilted loop, force not zero at zero velocity)",
-        cause="the fluid is compressible and the connections flex"),
+        cause="the fluid is compressible and the connections flex",
+        cause_hysteretic="the device's body, connections or supports flex in series with it",
+        size=sizes.series_spring, reference=(50.0,), fmu=True,
+        opensees=OpenSeesForm("the law's series form (laws 1, 2: ViscousDamper Ks C alpha)", None)),
     Effect(
-        name="asymmetry", stage="output", order=40, series_slot="r", function=asymmetry_force, none=(0.0,),
+        name="asymmetry", stage="output", order=40, function=asymmetry_force, none=(0.0,), slots=("r",),
+        inside_with=CONNECTIONS,
         parameters=(Parameter("r", "-", (-0.5, 0.5), lambda s: (-0.5, 0.5),
                               "tension/compression force ratio offset"),),
         equation="F_law (1 + r sign(F_law))",
         summary="tension/compression asymmetry: rod-side and cap-side areas or valves differ",
         symptom="peak forces differ in tension and compression",
-        cause="the two piston sides or valves differ"),
+        cause="the two piston sides or valves differ",
+        cause_hysteretic="the device is stronger in one direction (clamping or contact conditions differ)",
+        size=sizes.asymmetry, reference=(0.1,), fmu=True, opensees=asymmetric),
     Effect(
-        name="thermal_softening", stage="output", order=50, series_slot="theta", function=thermal_force, none=(0.0,),
+        name="thermal_softening", stage="output", order=50, function=thermal_force, none=(0.0,),
+        slots=("theta",), inside_with=CONNECTIONS,
         parameters=(Parameter("theta", "1/MJ", (0.0, 10.0), lambda s: (0.0, 1.0 / _cycle_energy(s)),
                               "force loss per MJ dissipated", log=True),),
         equation="F_law exp(-theta E), E = 1e-6 integral (F_law exp(-theta E)) u dt [MJ]",
         summary="heating: dissipated energy warms the oil and the force falls cycle after cycle",
         symptom="force falls from cycle to cycle (residual grows with time and dissipated energy)",
-        cause="the oil heats up and its viscosity drops"),
+        cause="the oil heats up and its viscosity drops",
+        cause_hysteretic="the dissipated energy heats the sliding surfaces and the friction coefficient falls",
+        size=sizes.heating, reference=(5.0,), fmu=True,
+        no_opensees="thermal_softening (force falling with dissipated energy)"),
     Effect(
-        name="friction", stage="parallel", order=60, series_slot="Ff", function=friction_force, none=(0.0,),
+        name="friction", stage="parallel", order=60, function=friction_force, none=(0.0,), slots=("Ff",),
+        inside_with=CONNECTIONS,
         parameters=(Parameter("Ff", "kN", (0.0, 30.0), lambda s: (0.0, 0.3 * s["F"]),
                               "seal friction force"),),
         equation=f"+ Ff tanh(u / v_f), v_f = {FRICTION_V_F:g} mm/s, u the law's velocity",
         summary="seal friction: a nearly constant force opposing motion, dominant at low velocity",
         symptom="loops are too square at low velocity (a constant force the law misses)",
-        cause="the seals rub"),
+        cause="the seals rub",
+        cause_hysteretic="an extra rubbing contact (seals, guides) adds a nearly constant force",
+        size=sizes.friction, reference=(5.0,), fmu=True, opensees=friction),
     Effect(
         name="parallel_stiffness", stage="parallel", order=70, function=parallel_force, none=(0.0, 0.0),
+        slots=("Kp", "F0"), inside_with=("gap",),
         parameters=(Parameter("Kp", "kN/mm", (-5.0, 10.0), lambda s: (-0.5 * _stiff(s), _stiff(s)),
                               "parallel stiffness (accumulator, gas spring)"),
                     Parameter("F0", "kN", (-30.0, 30.0), lambda s: (-0.2 * s["F"], 0.2 * s["F"]),
@@ -200,15 +215,21 @@ BUILTIN = (
         equation="+ Kp x + F0 (x = d; with a gap: the law's displacement, behind the clearance)",
         summary="accumulator / gas spring and preload: a static stiffness and an offset force",
         symptom="residual grows with displacement and has an offset",
-        cause="pressurised fluid acts as a spring with a preload"),
+        cause="pressurised fluid acts as a spring with a preload",
+        cause_hysteretic="the device or its supports carry a static spring (an elastic element beside "
+                         "the friction or hysteretic element) and a preload",
+        size=sizes.parallel_spring, reference=(1.0, 3.0), fmu=True, opensees=parallel_spring),
     Effect(
-        name="inertia", stage="parallel", order=80, function=inertia_force, none=(0.0,),
+        name="inertia", stage="parallel", order=80, function=inertia_force, none=(0.0,), slots=("m",),
         parameters=(Parameter("m", "kg", (0.0, 1e4), lambda s: (0.0, 0.5 * s["F"] / _accel(s) * 1e6),
                               "moving mass (fluid and piston)"),),
         equation="+ m a 1e-6 (a the measured acceleration, also with a gap)",
         summary="inertia: moving fluid and piston mass, a force proportional to acceleration",
         symptom="residual follows the acceleration (grows with frequency, peaks at the reversals)",
-        cause="fluid and piston mass are accelerated"),
+        cause="fluid and piston mass are accelerated", cause_hysteretic="accelerated mass of the moving parts",
+        size=sizes.inertia, reference=(1000.0,), fmu=True, no_opensees="inertia (a mass, not a material)"),
 )
 
 EFFECTS = {e.name: e for e in BUILTIN}
+#: the connection's arguments and their 'off' values (a rigid spring, no gap, no effect inside)
+SLOT_OFF = {slot: off for e in BUILTIN for slot, off in zip(e.slots, e.none)}

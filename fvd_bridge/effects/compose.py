@@ -15,14 +15,15 @@
                  + m xa 1e-6 (inertia, on the measured motion also with a
                  gap), user terms
 
-With a connection (a series spring, a gap, or both) the built-in element
-effects (asymmetry, thermal_softening, friction, and with a gap
-parallel_stiffness: no force at all passes the clearance) are solved
-inside its implicit step (steps.series_population); a user's output or
-parallel effect is then applied outside it.  A row whose gap is closed
-(g <= 0) or whose spring is rigid (Ks >= KS_RIGID) is computed exactly as
-the model without that effect, so every model is nested in the one with
-one more effect.  Within a stage effects apply in increasing
+With a connection (a series spring, a gap, or both) the element effects
+that declare it (``Effect.inside_with``: asymmetry, thermal_softening,
+friction, and with a gap parallel_stiffness: no force at all passes the
+clearance) are solved inside its implicit step
+(catalog.connection_force); a user's output or parallel effect is then
+applied outside it.  A row in which a connection effect is switched off
+(``Effect.off``: a gap closed, g <= 0, or a spring rigid, Ks >= KS_RIGID)
+is computed exactly as the model without that effect, so every model is
+nested in the one with one more effect.  Within a stage effects apply in increasing
 ``Effect.order``.  Without any effect the model is the law itself.
 """
 
@@ -31,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from .catalog import SLOT_OFF, connection_force
 
 STAGE_RANK = {"input": 0, "series": 1, "output": 2, "parallel": 3}
 
@@ -50,20 +52,11 @@ def _checked(e, F, pop: int, n: int) -> np.ndarray:
     return out
 
 
-#: laws whose force depends on the velocity only and vanishes at v = 0
-VELOCITY_LAWS = (1, 2)
-#: the connection effects, solved together (catalog.gap_force, catalog.series_force)
-CONNECTION = ("gap", "series_stiffness")
-#: effects solved inside the connection only when it has a gap (their slots):
-#: the accumulator sits behind the clearance
-BEHIND_GAP = {"parallel_stiffness": ("Kp", "F0")}
-
-
 def law_force(model, x, xv, dt, PL, substeps, record=None) -> np.ndarray:
     """The law on per-row (pop, n_t) or shared (1, n_t) kinematics [kN]."""
     if x.shape[0] == 1:
         return model.law.force(x[0], xv[0], dt, PL, substeps)
-    if record is not None and model.law.number in VELOCITY_LAWS:
+    if record is not None and model.law.velocity_only:
         moving = xv != 0.0
         if np.array_equal(xv[moving], np.broadcast_to(record.v, xv.shape)[moving]):
             # each row's velocity is the record's or 0 (a user's input effect): mask the shared evaluation
@@ -73,50 +66,34 @@ def law_force(model, x, xv, dt, PL, substeps, record=None) -> np.ndarray:
                           for i in range(PL.shape[0])])
 
 
-def _effect(model, name):
-    return next(e for e in model.effects if e.name == name)
+def inside_connection(model) -> set:
+    """Names of the model's effects solved inside its connection: the
+    connection effects (stage 'series') and those whose ``inside_with`` names
+    one of them."""
+    connections = {e.name for e in model.effects if e.stage == "series"}
+    return connections | {e.name for e in model.effects if connections & set(e.inside_with)}
 
 
 def _connection(model, x, xv, xa, dt, PL, PE, pop, substeps):
-    """The connection (catalog.gap_force with a gap, else catalog.series_force)
-    with the built-in element effects inside: (F, u, F_o, x_o, the effects inside)."""
-    zeros = np.zeros(pop)
-    slots = {"r": zeros, "theta": zeros, "Ff": zeros, "Kp": zeros, "F0": zeros}
-    inside = set()
-    gap = model.has("gap")
-    for other in model.effects:
-        if other.series_slot:
-            slots[other.series_slot] = PE[other.name][:, 0]
-            inside.add(other.name)
-        elif gap and other.name in BEHIND_GAP:
-            for j, slot in enumerate(BEHIND_GAP[other.name]):
-                slots[slot] = PE[other.name][:, j]
-            inside.add(other.name)
+    """The connection (catalog.connection_force) with the element effects
+    inside: (F, u, F_o, x_o, the names of the effects inside)."""
+    inside = inside_connection(model)
+    slots = {slot: np.full(pop, off) for slot, off in SLOT_OFF.items()}
+    for e in model.effects:
+        if e.name in inside:
+            for j, slot in enumerate(e.slots):
+                slots[slot] = PE[e.name][:, j]
     shape = (pop if x.shape[0] > 1 else 1, x.shape[1])
-    motion = (model.law.number, PL, np.broadcast_to(x, shape), np.broadcast_to(xv, shape),
-              np.broadcast_to(xa, shape), dt)
-    if gap:
-        Ks = PE["series_stiffness"][:, 0] if model.has("series_stiffness") else np.full(pop, np.inf)  # rigid
-        out = _effect(model, "gap").function(PE["gap"], *motion, Ks, slots["r"], slots["theta"], slots["Ff"],
-                                             slots["Kp"], slots["F0"], substeps)
-    else:
-        out = _effect(model, "series_stiffness").function(PE["series_stiffness"], *motion, slots["r"],
-                                                          slots["theta"], slots["Ff"], substeps)
+    out = connection_force(model.law.number, PL, np.broadcast_to(x, shape), np.broadcast_to(xv, shape),
+                           np.broadcast_to(xa, shape), dt, slots, substeps)
     return (*out, inside)
 
 
 def _open_rows(model, P):
     """[(effect name, row mask)] of the connection effects switched off in
-    some rows: a gap with g <= 0 (closed), a series spring with Ks >=
-    KS_RIGID (rigid, the upper end of its range); None when no row has one."""
-    from .catalog import KS_RIGID_FROM
-
+    some rows (``Effect.off``); None when no row has one."""
     _, PE = model.split(P)
-    off = []
-    if model.has("gap"):
-        off.append(("gap", PE["gap"][:, 0] <= 0.0))
-    if model.has("series_stiffness"):
-        off.append(("series_stiffness", PE["series_stiffness"][:, 0] >= KS_RIGID_FROM))
+    off = [(e.name, e.off(PE[e.name])) for e in model.effects if e.stage == "series"]
     return off if any(mask.any() for _, mask in off) else None
 
 
@@ -197,18 +174,15 @@ def _composed(model, record, P, substeps, parts):
             raise InputError(f"effect '{e.name}' ({e.source}): an input effect returns (x, xv, xa)")
         x, xv, xa = (_checked(e, o, pop, n) for o in out)
     inside: set = set()
-    if any(model.has(name) for name in CONNECTION):
+    if any(e.stage == "series" for e in model.effects):
         F, u, FO, xo, inside = _connection(model, x, xv, xa, dt, PL, PE, pop, substeps)
         if parts:
             rest = F
-            for e in effects:
-                if e.name in inside and e.name in BEHIND_GAP:
+            for e in effects:  # the parallel terms inside act on the law's own motion
+                if e.name in inside and e.stage == "parallel":
                     parts_out[e.name] = e.function(PE[e.name], record.t, xo, u, xa)
                     rest = rest - parts_out[e.name]
-            friction = [e.name for e in effects if e.series_slot == "Ff"]
-            parts_out["law"] = FO if friction else rest.copy()
-            for name in friction:
-                parts_out[name] = rest - FO
+            parts_out["law"] = rest.copy()
         # a user's output effect sees the law's own motion behind the connection
         xl, ul = xo, u
     else:

@@ -73,7 +73,7 @@ def check_effect(e, where: str) -> Effect:
         raise InputError(f"{where}: effect name '{e.name}' must be an identifier (letters, digits, _)")
     if e.stage not in STAGES:
         raise InputError(f"{label}: stage '{e.stage}' (expected input, output or parallel)")
-    if e.stage == "series" or e.series_slot:
+    if e.stage == "series" or e.slots or e.inside_with:
         raise InputError(f"{label}: the series stage is built in only (use series_stiffness)")
     if not callable(e.function):
         raise InputError(f"{label}: function is not callable")

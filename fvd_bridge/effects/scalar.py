@@ -7,7 +7,7 @@ motion x, xv, xa):
 
   1. connection  a gap (g > 0) and/or a series spring (Ks < KS_RIGID):
                F = Ks dz(w, g/2) of one sample step of the connection
-               (``steps.series_sample``; Ks = inf, a rigid contact, for a
+               (``connection.series_sample``; Ks = inf, a rigid contact, for a
                gap alone; dz = w without a gap) with asymmetry,
                heating, friction and, behind a gap, Kp x_o + F0 inside it;
                F = 0 at k = 0 (the pin centred);
@@ -45,8 +45,9 @@ from ..errors import InputError
 from ..laws.differential import _sub_velocities
 from ..laws.scalar import advance, force, law_constants, new_state, one_member
 from .catalog import BUILTIN, EFFECTS, KS_RIGID_FROM
-from .steps import (asymmetry_factor, friction_term, gap_half, heat_energy, heat_factor, inertia_term,
-                    law_exponent, parallel_spring, series_rest, series_sample)
+from .connection import gap_half, series_rest, series_sample
+from .element import law_exponent
+from .steps import asymmetry_factor, friction_term, heat_energy, heat_factor, inertia_term, parallel_spring
 
 #: the effects, in ``flags`` order (the catalog's)
 EFFECT_NAMES = tuple(e.name for e in BUILTIN)

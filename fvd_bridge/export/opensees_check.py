@@ -12,13 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fit.objective import objective
-from ..model import Model, parse_model
+from ..catalog import parse_model
+from ..model import Model
 from ..records.record import Record
 from .opensees import apply, listed, opensees_export
-
-#: materials that integrate over the analysis' global step (ops_Dt in OpenSees)
-GLOBAL_STEP_MATERIALS = ("ViscousDamper",)
-
 
 def _ops():
     import openseespy.opensees as ops
@@ -50,12 +47,12 @@ def _set_global_step(ops, dt: float) -> None:
 def drive_material(commands, tag: int, t, d, v) -> np.ndarray:
     """Force [kN] of material ``tag`` for the strain d [mm] and rate v [mm/s]
     at times t [s] (uniform step): testUniaxialMaterial + setStrain(d, v),
-    each step committed.  For a material in GLOBAL_STEP_MATERIALS the global
-    step is set to t[1] - t[0] first (``_set_global_step``)."""
+    each step committed.  The global step is set to t[1] - t[0] first
+    (``_set_global_step``): materials such as ViscousDamper and
+    BilinearOilDamper integrate over it (ops_Dt), the others ignore it."""
     ops, commands = _ops(), listed(commands)
     _fresh(ops, commands)
-    if any(c[0] == "uniaxialMaterial" and c[1] in GLOBAL_STEP_MATERIALS for c in commands):
-        _set_global_step(ops, t[1] - t[0])
+    _set_global_step(ops, t[1] - t[0])
     ops.testUniaxialMaterial(int(tag))
     F = np.empty(len(d))
     for i, (di, vi) in enumerate(zip(d, v)):

@@ -1,4 +1,6 @@
-"""What a law is: parameters with units and bounds, an equation, a vectorized kernel."""
+"""What a law is, declared as data (the registry's types): parameters with
+units and bounds, an equation, a vectorized kernel, the state it carries, the
+kind of device it describes, and its export targets (``OpenSeesForm``)."""
 
 from __future__ import annotations
 
@@ -45,10 +47,47 @@ class Derived:
 
 
 @dataclass(frozen=True)
+class OpenSeesForm:
+    """How OpenSees expresses a law or an effect (a registry target).
+
+    ``materials``: the OpenSees materials, as the docs' table shows them
+    ("Viscous C alpha"); ``build(s, p)`` adds them to the script builder s
+    (``s.mat(kind, *args) -> tag``, ``s.parallel(tags, factors)``,
+    ``s.notes``) from the parameters p {name: value} (kN, mm, s) and returns
+    the tag of the law's material (an output effect: ``build(s, tag, p)``,
+    wrapping the element ``tag``; a parallel effect: a term added beside it);
+    ``series(s, p, Ks)``: the law behind a series spring Ks [kN/mm] (None:
+    not expressible); ``refuse(p)``: why these parameter values cannot be
+    expressed ('' when they can); ``accuracy``: 'exact' (OpenSees solves the
+    model's equations), 'hysteretic' (BoucWen's first-order z, bound
+    proportional to the step), 'table' (a tabulated curve); ``stateless``:
+    the material keeps no history; ``needs_stateless``: an output effect
+    that can wrap a stateless law's material only (asymmetry)."""
+
+    materials: str
+    build: Callable
+    accuracy: str = "exact"
+    series: Callable | None = None
+    refuse: Callable | None = None
+    stateless: bool = False
+    needs_stateless: bool = False
+
+
+@dataclass(frozen=True)
 class Law:
     """A damper law: ``population(d, v, dt, P, substeps) -> F`` evaluates a whole
     population, P of shape (pop, n_par), F of shape (pop, n_t) [kN]; d [mm],
-    v [mm/s], dt [s].  ``derived``: quantities reported beside the parameters."""
+    v [mm/s], dt [s].  ``derived``: quantities reported beside the parameters.
+
+    Capabilities (read by every consumer; nobody switches on the number):
+    ``state``: the internal variables it carries (none for an algebraic
+    law); ``device``: 'fluid' (an orifice, a Maxwell dashpot) or
+    'hysteretic' (friction and hysteretic devices), the wording diagnose
+    uses; ``velocity_only``: the force depends on the velocity alone and
+    vanishes at rest; ``connection``: its step form can sit behind a series
+    spring or a contact gap (``effects/connection.py``); ``reference``: a
+    realistic parameter set (the golden files, benchmarks); ``opensees``:
+    its OpenSees form (None: none); ``fmu``: the FMU's C code carries it."""
 
     number: int
     name: str
@@ -59,6 +98,13 @@ class Law:
     population: Callable
     note: str = ""
     derived: tuple = ()
+    state: tuple = ()
+    device: str = "fluid"
+    velocity_only: bool = False
+    connection: bool = True
+    reference: tuple = ()
+    opensees: OpenSeesForm | None = None
+    fmu: bool = True
 
     @property
     def key(self) -> str:

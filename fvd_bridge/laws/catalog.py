@@ -1,4 +1,7 @@
-"""The nine laws of the paper (section 2, Table 4), in one table.
+"""The laws, in one table: the nine of the paper (section 2, Table 4) and
+the bilinear oil damper of Japanese practice.  Each entry declares the law as
+data (``base.Law``): parameters, kind and state, device kind, golden
+reference values, export targets.
 
 'paper' bounds are Table 4 as printed.  'auto' bounds scale with the record:
 F = peak force [kN], v = peak velocity [mm/s], d = peak displacement [mm];
@@ -10,6 +13,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from . import algebraic, differential
+from . import opensees_forms as ops_form
 from .base import Derived, Law, Parameter
 
 
@@ -38,13 +42,13 @@ ALPHA = Parameter("alpha", "-", (0.0, 1.0), _alpha, "damping exponent")
 
 LAWS = {
     1: Law(1, "linear viscous", "algebraic", "F = C v", "paper eq. 1",
-           (C_LIN,), algebraic.law1),
+           (C_LIN,), algebraic.law1, velocity_only=True, reference=(0.6,), opensees=ops_form.LAW1),
     2: Law(2, "generalized viscous", "algebraic", "F = C sign(v)|v|^alpha", "paper eq. 2",
-           (C_POW, ALPHA), algebraic.law2),
+           (C_POW, ALPHA), algebraic.law2, velocity_only=True, reference=(45.0, 0.3), opensees=ops_form.LAW2),
     3: Law(3, "generalized viscous + linear spring", "algebraic",
            "F = K1 d + C sign(v)|v|^alpha", "paper eq. 5",
            (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 200.0), _k_lin, "parallel stiffness")),
-           algebraic.law3),
+           algebraic.law3, reference=(45.0, 0.3, 5.0), opensees=ops_form.LAW3),
     4: Law(4, "generalized viscous + quadratic spring", "algebraic",
            "F = K1 d + K2 d^2 + C sign(v)|v|^alpha", "paper eq. 6",
            (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 300.0), _k_lin, "linear stiffness"),
@@ -52,7 +56,8 @@ LAWS = {
                       lambda s: (-3.0 * s["F"] / s["d"] ** 2, 3.0 * s["F"] / s["d"] ** 2),
                       "quadratic stiffness")),
            algebraic.law4,
-           note="K2 d^2 is even in d, as printed: it pushes the same way in tension and compression."),
+           note="K2 d^2 is even in d, as printed: it pushes the same way in tension and compression.",
+           reference=(45.0, 0.3, 5.0, 0.1), opensees=ops_form.LAW4),
     5: Law(5, "generalized Kelvin-Voigt", "algebraic",
            "F = K sign(d)|d|^beta + C sign(v)|v|^alpha", "paper eq. 7",
            (C_POW, ALPHA,
@@ -61,7 +66,7 @@ LAWS = {
                                  3.0 * s["F"] * max(1.0, 1.0 / s["d"]) ** BETA5_MAX),
                       "spring coefficient", log=True),
             Parameter("beta", "-", (0.0, 5.0), lambda s: (0.0, BETA5_MAX), "spring exponent")),
-           algebraic.law5),
+           algebraic.law5, reference=(45.0, 0.3, 2.0, 1.2), opensees=ops_form.LAW5),
     6: Law(6, "Bouc-Wen + viscous", "differential",
            "F = alpha K d + (1-alpha) K z + C v;  dz/dt = v - beta |v| z - beta v |z|",
            "paper eqs. 8-9 with A = n = 1, beta = gamma (Bouc-Wen standard form)",
@@ -71,7 +76,8 @@ LAWS = {
             Parameter("alpha", "-", (0.0, 1.0), _alpha, "post/pre-yield stiffness ratio"),
             Parameter("beta", "1/mm", (0.0, 5.0), lambda s: (0.0, 200.0 / s["d"]),
                       "hysteresis shape (beta = gamma); z saturates at 1/(2 beta)")),
-           differential.law6),
+           differential.law6, state=("z",), device="hysteretic", reference=(0.25, 60.0, 0.01, 0.08),
+           opensees=ops_form.LAW6),
     7: Law(7, "Lu unified, visco-elastic", "differential",
            "F = K sign(z)|z|^beta;  dz/dt = v - sign(z) (K |z|^beta / C)^(1/alpha)",
            "paper eqs. 10-11 (Lu et al.); beta = 1 is the Maxwell model",
@@ -84,7 +90,8 @@ LAWS = {
                       "spring coefficient", log=True),
             Parameter("beta", "-", (0.2, 0.4), lambda s: (0.2, 2.0), "spring exponent")),
            differential.law7,
-           note="paper bounds cap the force near C 500^0.3 = 65 kN: law 7 cannot reach a 300 kN loop."),
+           note="paper bounds cap the force near C 500^0.3 = 65 kN: law 7 cannot reach a 300 kN loop.",
+           state=("z",), reference=(45.0, 0.3, 100.0, 1.0), opensees=ops_form.LAW7),
     8: Law(8, "Lu unified, friction + viscous", "differential",
            "F = z mu N + C v;  dz/dt = K/(mu N) v, z held in [-1, 1]",
            "paper eqs. 12-13 (Lu et al.), an elastic-perfectly-plastic slip element",
@@ -96,7 +103,8 @@ LAWS = {
            differential.law8,
            note="only the slip force mu N is identifiable; mu and N alone are not.",
            derived=(Derived("mu*N", "kN", lambda p: p[2] * p[3], "slip force, the identifiable product",
-                            ("mu", "N")),)),
+                            ("mu", "N")),),
+           state=("z",), device="hysteretic", reference=(0.25, 30.0, 0.5, 330.0), opensees=ops_form.LAW8),
     9: Law(9, "LuGre + viscous", "differential",
            "F = beta z + C v;  dz/dt = v - alpha |v| z",
            "paper eqs. 14-15 with eps = K = F0 = 0 (Canudas de Wit et al.)",
@@ -105,20 +113,21 @@ LAWS = {
                       "inverse of the saturation travel; z saturates at 1/alpha"),
             Parameter("beta", "kN/mm", (20.0, 100.0), lambda s: (0.0, 100.0 * s["F"] / s["d"]),
                       "bristle stiffness")),
-           differential.law9),
+           differential.law9, state=("z",), device="hysteretic", reference=(0.2, 0.15, 27.0),
+           opensees=ops_form.LAW9),
 }
 
 
 def get_law(key) -> Law:
-    """Law by number (1-9 or '1'..'9'); an unknown name is an input error."""
+    """Law by number ('2', 'law2', 2); an unknown name is an input error."""
     try:
         return LAWS[int(str(key).strip().removeprefix("law"))]
     except (ValueError, KeyError):
-        raise InputError(f"unknown law '{key}' (known: 1-9; see `fvd-bridge laws`)") from None
+        raise InputError(f"unknown law '{key}' (known: {min(LAWS)}-{max(LAWS)}; see `fvd-bridge laws`)") from None
 
 
 def parse_law_list(text: str) -> list[Law]:
-    """'1-9', '2,6,9' or '1-3,8' -> laws."""
+    """'1-10', '2,6,9' or '1-3,8' -> laws."""
     out = []
     for part in str(text).split(","):
         part = part.strip()

@@ -17,7 +17,7 @@ def gap_loops(g: float = 2.0, amp: float = 40.0, freq: float = 0.5, dt: float = 
     """(t [s], d [mm], F without gap, F with a contact gap g [mm]) [kN] of law 9
     (the golden reference parameters) under d = amp sin(2 pi freq t)."""
     from ..golden import REFERENCE
-    from ..model import parse_model
+    from ..catalog import parse_model
     from ..records import Record
 
     t = np.arange(int(round(cycles / freq / dt)) + 1) * dt
