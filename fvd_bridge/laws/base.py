@@ -10,6 +10,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import InputError
+from .scalar import members
 
 BOUND_MODES = ("auto", "paper")
 
@@ -77,7 +78,8 @@ class OpenSeesForm:
 class Law:
     """A damper law: ``population(d, v, dt, P, substeps) -> F`` evaluates a whole
     population, P of shape (pop, n_par), F of shape (pop, n_t) [kN]; d [mm],
-    v [mm/s], dt [s].  ``derived``: quantities reported beside the parameters.
+    v [mm/s], dt [s] (None: its scalar step form per member,
+    ``scalar.members``).  ``derived``: quantities reported beside the parameters.
 
     Capabilities (read by every consumer; nobody switches on the number):
     ``state``: the internal variables it carries (none for an algebraic
@@ -95,7 +97,7 @@ class Law:
     equation: str
     source: str
     parameters: tuple[Parameter, ...]
-    population: Callable
+    population: Callable | None
     note: str = ""
     derived: tuple = ()
     state: tuple = ()
@@ -127,5 +129,7 @@ class Law:
         if P.shape[1] != len(self.parameters):
             raise InputError(f"law {self.number}: expected {len(self.parameters)} parameters "
                              f"({', '.join(self.names)}), got {P.shape[1]}")
-        return self.population(np.ascontiguousarray(d, dtype=float), np.ascontiguousarray(v, dtype=float),
-                           float(dt), np.ascontiguousarray(P), int(substeps))
+        d, v, P = (np.ascontiguousarray(x, dtype=float) for x in (d, v, P))
+        if self.population is None:
+            return members(self.number, d, v, float(dt), P, int(substeps))
+        return self.population(d, v, float(dt), P, int(substeps))

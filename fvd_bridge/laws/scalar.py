@@ -1,4 +1,4 @@
-"""The nine laws for one member, step by step: the reference for the FMU's C code.
+"""The laws for one member, step by step: the reference for the FMU's C code.
 
 The FMU's C code mirrors this module function for function: a member's
 constants (``law_constants``), its state at rest (``new_state``), one
@@ -8,7 +8,9 @@ loops them exactly as the population drivers do (``algebraic.py``,
 ``trbdf2.py``, called here with plain loops over one member (no SIMD lanes);
 tests/test_scalar_laws.py checks the histories against the population
 drivers (to 1e-12 of the peak force; laws 2 and 5-9 agree bit for bit, laws
-1, 3, 4 to rounding, their drivers being ``F = C v`` and fastmath=True).
+1, 3, 4 to rounding, their drivers being ``F = C v`` and fastmath=True); a
+law declared without a population kernel runs ``history`` per member
+(``members``).
 Units: kN, mm, s.
 
 Constants k (``law_constants``) by law code:
@@ -24,7 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from .differential import _sub_velocities
 from .fastmath import FASTMATH, scalar
@@ -156,4 +158,15 @@ def history(code, p, d, v, dt, substeps=1):
             va, vb = _sub_velocities(v[i - 1], v[i], j, substeps)
             advance(code, k, s, va, vb, h)
         F[i] = force(code, k, s, d[i], v[i])
+    return F
+
+
+@njit(parallel=True, cache=True)
+def members(code, d, v, dt, P, substeps):
+    """Population driver of a law without a vectorized kernel of its own:
+    ``history`` for each parameter row of P (pop, n_par), in parallel (numba
+    prange) -> F (pop, n_t) [kN]."""
+    F = np.empty((P.shape[0], d.size))
+    for i in prange(P.shape[0]):
+        F[i] = history(code, P[i], d, v, dt, substeps)
     return F
