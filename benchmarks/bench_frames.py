@@ -19,11 +19,12 @@ from pathlib import Path
 import numpy as np
 
 from fvd_bridge.export.opensees import opensees_export
-from fvd_bridge.frames.analysis import DAMPER_TAGS_FROM, run_frame
+from fvd_bridge.frames.analysis import run_frame
 from fvd_bridge.frames.buildings import nine_story, three_story
-from fvd_bridge.frames.motions import G_MM_S2, GroundMotion, read_motion
+from fvd_bridge.frames.model import DAMPER_TAGS_FROM
 from fvd_bridge.golden import REFERENCE
-from fvd_bridge.model import parse_model
+from fvd_bridge.records.motions import G_MM_S2, GroundMotion, read_motion
+from fvd_bridge.catalog import parse_model
 
 ELCENTRO = Path(__file__).resolve().parents[1] / ".." / "shared" / "records" / "elcentro_1940_NS_2688pts_g_dt0.02.dat"
 TARGET_S = 5.0

@@ -52,10 +52,10 @@ def main(argv=None) -> int:
         print(f"frames_compare: {RECORD} is absent; nothing to do")
         return 0
 
-    from fvd_bridge import Model, calibrate, read_record
+    from fvd_bridge import calibrate, parse_model, read_record
     from fvd_bridge.frames.buildings import three_story
     from fvd_bridge.frames.compare import run_cases
-    from fvd_bridge.frames.motions import read_motion
+    from fvd_bridge.records.motions import read_motion
     from fvd_bridge.frames.outputs import format_frame_table, write_frame_outputs
     from fvd_bridge.rig import Device, Noise, paper, production_series, write_series
 
@@ -68,7 +68,7 @@ def main(argv=None) -> int:
     for path in paths:
         rec = read_record(path)
         for spec in LAWS:
-            model = Model.from_spec(spec)
+            model = parse_model(spec)
             if spec == "7":  # the Maxwell model (beta = 1) that OpenSees' ViscousDamper solves
                 cal = maxwell_calibration(rec, model, seed=[7, len(calibrations)], quick=args.quick)
             else:

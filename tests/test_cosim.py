@@ -23,9 +23,9 @@ from fvd_bridge.errors import InputError  # noqa: E402
 from fvd_bridge.export.fmu import build_fmu, end_of_step_input, simulate  # noqa: E402
 from fvd_bridge.fit.objective import objective  # noqa: E402
 from fvd_bridge.frames.buildings import three_story  # noqa: E402
-from fvd_bridge.frames.motions import G_MM_S2, GroundMotion  # noqa: E402
+from fvd_bridge.records.motions import G_MM_S2, GroundMotion  # noqa: E402
 from fvd_bridge.golden import GOLDEN_DIR, REFERENCE, golden_record, read_golden  # noqa: E402
-from fvd_bridge.model import parse_model  # noqa: E402
+from fvd_bridge.catalog import parse_model  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = ("fmu_cosim.py", "opensees_fmu_cosim.py")
@@ -119,13 +119,14 @@ def test_node_checkpoint_repeats_steps_bit_for_bit():
     restoring and repeating gives the same response, bit for bit (elastic members)."""
     import openseespy.opensees as ops
 
-    from fvd_bridge.frames.analysis import _transient, build_frame
     from fvd_bridge.frames.cosim import FrameDampers, NodeCheckpoint
+    from fvd_bridge.frames.model import build_frame
+    from fvd_bridge.frames.transient import start_transient
 
     motion = synthetic_motion()
     building = three_story().with_(yielding=False)
     model = build_frame(building)
-    _transient(motion.dt, motion.accel)
+    start_transient(motion.dt, motion.accel)
     dampers = FrameDampers(building)
     checkpoint = NodeCheckpoint()
 
@@ -164,10 +165,10 @@ def test_frame_cosimulation_through_law2_reversals(fmus, monkeypatch):
     step halving (Newton allowed 50 iterations), OF 1e-4 at most (measured
     on El Centro: 2e-6)."""
     from fvd_bridge.export.opensees import opensees_export
-    from fvd_bridge.frames import analysis
+    from fvd_bridge.frames import analysis, transient
     from fvd_bridge.frames.cosim import cosimulate_frame
 
-    monkeypatch.setattr(analysis, "ALGORITHMS", tuple((a, (t[0], t[1], 50)) for a, t in analysis.ALGORITHMS))
+    monkeypatch.setattr(transient, "ALGORITHMS", tuple((a, (t[0], t[1], 50)) for a, t in transient.ALGORITHMS))
     motion = synthetic_motion()
     building = three_story().with_(yielding=False)
     model = parse_model("2")

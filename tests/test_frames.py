@@ -3,16 +3,22 @@ the closed-form SDOF response, the 3-story frame bare and with dampers."""
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import subprocess
+import sys
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from fvd_bridge.errors import InputError
-from fvd_bridge.frames.analysis import frame_periods, run_frame
+from fvd_bridge.frames.analysis import run_frame
 from fvd_bridge.frames.buildings import TONNE, W_SHAPES, Building, Section, nine_story, three_story
-from fvd_bridge.frames.motions import G_MM_S2 as G
+from fvd_bridge.frames.model import build_frame, frame_commands, frame_periods
+from fvd_bridge.opensees_commands import to_script
+from fvd_bridge.records.motions import G_MM_S2 as G
 from fvd_bridge.rig.energy import loop_area
 
 TAG = 1000
@@ -183,7 +189,7 @@ def test_without_damper_recording_the_damper_fields_are_none():
 
 
 def test_el_centro_through_the_motion_reader(shared_dir):
-    from fvd_bridge.frames.motions import read_text
+    from fvd_bridge.records.motions import read_text
 
     path = shared_dir / "records" / "elcentro_1940_NS_2688pts_g_dt0.02.dat"
     if not path.is_file():
@@ -193,3 +199,31 @@ def test_el_centro_through_the_motion_reader(shared_dir):
     assert r.solver.converged and r.record_end == pytest.approx(10.0)
     assert 0.003 < r.max_drift_ratio < 0.03             # PGA 0.35 g on a 1 s frame
     assert r.ground_acceleration.max() <= motion.pga_g * G + 1e-9
+
+
+# ------------------------------------------------------- the frame as commands
+
+
+def test_frame_commands_make_a_script_that_runs_without_fvd_bridge(tmp_path):
+    """The 3-story frame with a damper material, written as an OpenSeesPy
+    script: plain openseespy runs it, and its eigen periods are frame_periods'
+    (the Viscous links add no stiffness)."""
+    b = three_story()
+    commands = frame_commands(b, viscous(2.0, 0.5), TAG)
+    assert commands[0] == ("wipe",) and ("uniaxialMaterial", "Viscous", TAG, 2.0, 0.5) in commands
+    assert sum(c[:2] == ("element", "twoNodeLink") for c in commands) == 3
+    model = build_frame(b, viscous(2.0, 0.5), TAG)
+    assert commands == frame_commands(b, viscous(2.0, 0.5), TAG, rayleigh=model.rayleigh)
+    assert ("rayleigh", model.rayleigh[0], 0.0, model.rayleigh[1], 0.0) in commands
+    script = to_script(commands, "py")
+    assert "fvd_bridge" not in script and "np." not in script
+    path = tmp_path / "frame3.py"
+    path.write_text(script + "import json, math\n"
+                    "print(json.dumps([2 * math.pi / math.sqrt(x) for x in ops.eigen('-fullGenLapack', 3)]))\n")
+    res = subprocess.run([sys.executable, str(path)], capture_output=True, text=True, timeout=120,
+                         cwd=tmp_path, env={**os.environ, "PYTHONPATH": ""})
+    assert res.returncode == 0, res.stderr
+    periods = json.loads(res.stdout.strip().splitlines()[-1])
+    assert np.allclose(periods, frame_periods(b), rtol=1e-9, atol=0.0)
+    tcl = to_script(commands, "tcl").splitlines()
+    assert tcl[0] == "wipe" and tcl[1] == "model basic -ndm 2 -ndf 3" and any(s.startswith("rayleigh ") for s in tcl)

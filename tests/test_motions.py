@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from fvd_bridge.errors import InputError
-from fvd_bridge.frames.motions import (G_MM_S2, GroundMotion, accel_factor, read_at2, read_motion, read_smc,
+from fvd_bridge.records.motions import (G_MM_S2, GroundMotion, accel_factor, read_at2, read_motion, read_smc,
                                        read_text, read_two_column, read_v2a)
 from fvd_bridge.rig.protocols import read_history
 

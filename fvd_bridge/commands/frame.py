@@ -60,7 +60,7 @@ def load_inputs(args):
     """Calibrations, building and ground motion, all checked before any analysis."""
     from ..calibration import Calibration
     from ..frames import buildings
-    from ..frames.motions import read_motion
+    from ..records.motions import read_motion
 
     for name in ("scale_pga", "duration", "stroke_limit", "force_limit"):
         value = getattr(args, name)

@@ -44,7 +44,7 @@ levels 1, 3, 5, 7).  The 2% damping ratio is the benchmark's; the modes it is
 anchored at are this module's choice (``damping_modes``).
 The 3-story frame's fourth bay has simple (pinned) beam connections, which
 carry no lateral load and are left out; its end column (W14X257) stays as a
-continuous column.  The eigen periods of these models (``analysis.frame_periods``)
+continuous column.  The eigen periods of these models (``model.frame_periods``)
 lie within 10% of the benchmark's (tests/test_frames.py): the 3-story's T1
 2.4% and the 9-story's 6.7% short (stiffer; no panel zones, rigid-floor
 constraint, nominal sections).

@@ -19,7 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .analysis import DAMPER_TAGS_FROM, FrameResult, run_frame
+from ..export.opensees import opensees_export
+from .analysis import FrameResult, run_frame
+from .model import DAMPER_TAGS_FROM
 
 #: a simpler model is as good as the best-fitting one within this share
 VERDICT_TOLERANCE = 0.05
@@ -91,8 +93,6 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
 
     A model OpenSees cannot express is kept as a case without result, its note
     saying why (the FMU export is the way for it)."""
-    from ..export.opensees import opensees_export
-
     runs = [(Case("bare frame", None, None, None), None)]
     for cal in calibrations:
         device = (cal.record or {}).get("name") or "device"

@@ -2,9 +2,9 @@
 one instance of the FMI 3.0 co-simulation FMU of ``fvd_bridge.export.fmu``
 per story carries the damper (kN, mm, s).
 
-The frame is ``analysis.build_frame`` without dampers (same members, masses,
+The frame is ``model.build_frame`` without dampers (same members, masses,
 Rayleigh damping, ground motion and Newmark average-acceleration analysis as
-``run_frame``); each story's damper becomes a pair of equal and opposite
+``analysis.run_frame``, the same ``transient.step_through`` loop); each story's damper becomes a pair of equal and opposite
 nodal loads along its diagonal (lower-left joint to upper-right joint of
 ``building.damper_bay``, unit vector e): +F e at the lower joint, -F e at the
 upper one (tension F > 0 pulls them together).  The loads sit in one Plain
@@ -77,13 +77,17 @@ from dataclasses import dataclass
 
 import numpy as np
 import openseespy.opensees as ops
+from fmpy import extract, read_model_description
+from fmpy.fmi3 import FMU3Slave, fmi3LogMessageCallback
+from scipy.optimize import brentq
 
 from ..errors import InputError
-from .analysis import (FrameResult, _motion_arrays, _node, _report, _Stepper, _transient, build_frame,
-                       histories, loop_energy)
+from .analysis import FrameResult, frame_result
+from .model import build_frame, damper_diagonals
+from .transient import Excitation, Stepper, start_transient, step_through
 
 SCHEMES = ("explicit", "iterative")
-#: tags of the damper load pattern and its Constant series (the frame's excitation uses 1)
+#: tags of the damper load pattern and its Constant series (the ground motion uses transient.EXCITATION = 1)
 LOAD_PATTERN = 2
 #: first OpenSees parameter tag of the damper loads
 PARAMETER_TAGS_FROM = 1
@@ -102,9 +106,6 @@ class DamperFMU:
     ``close``."""
 
     def __init__(self, path, name: str = "damper", use_velocity: bool = True, unzipdir=None):
-        from fmpy import extract, read_model_description
-        from fmpy.fmi3 import FMU3Slave, fmi3LogMessageCallback
-
         md = read_model_description(str(path))
         vr = {v.name: v.valueReference for v in md.modelVariables}
         self._tmp = None
@@ -170,8 +171,6 @@ class DamperFMU:
 def damper_fmus(path, n: int, use_velocity: bool = True, workdir=None) -> list[DamperFMU]:
     """``n`` initialized instances of one FMU, extracted once into ``workdir``
     (a folder that must outlive them)."""
-    from fmpy import extract
-
     unzipdir = extract(str(path), str(workdir)) if workdir is not None else None
     fmus = [DamperFMU(path, f"damper{i + 1}", use_velocity, unzipdir) for i in range(n)]
     for f in fmus:
@@ -217,10 +216,8 @@ class FrameDampers:
     v [mm/s])."""
 
     def __init__(self, building):
-        b = building
         self.pairs, self.axes = [], []
-        for story in range(b.ground_level, b.levels):
-            bottom, top = _node(story, b.damper_bay), _node(story + 1, b.damper_bay + 1)
+        for bottom, top in damper_diagonals(building):
             (x0, z0), (x1, z1) = ops.nodeCoord(bottom), ops.nodeCoord(top)
             length = math.hypot(x1 - x0, z1 - z0)
             self.pairs.append((bottom, top))
@@ -297,8 +294,6 @@ def solve_damper_forces(fmus, states, t, h, d0, v0, F0, S_d, S_v, tol_F=1e-6, ne
     Brent root in the bracket [F_i, Phi_i(F_i)], sweeps until no force moves
     by more than tol_F.  Returns (F, converged); every FMU is left stepped
     at its story's motion under F (its outputs are the damper forces)."""
-    from scipy.optimize import brentq
-
     F0 = np.asarray(F0, dtype=float)
     F = F0.copy()
     n = F.size
@@ -348,7 +343,7 @@ def solve_damper_forces(fmus, states, t, h, d0, v0, F0, S_d, S_v, tol_F=1e-6, ne
     return F, converged
 
 
-def probe_flexibility(dampers: FrameDampers, checkpoint: NodeCheckpoint, stepper: _Stepper, h: float):
+def probe_flexibility(dampers: FrameDampers, checkpoint: NodeCheckpoint, stepper: Stepper, h: float):
     """(S_d [mm/kN], S_v [mm/s/kN]): the change of the damper deformations
     and rates at the end of one step of h [s] per kN of damper force, column
     j for damper j, from n + 1 solves (zero forces, then PROBE_FORCE on each
@@ -399,65 +394,26 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
         raise InputError(f"building {b.name}: the iterative scheme rolls OpenSees back, which openseespy "
                          "does only for elastic members: use building.with_(yielding=False), or "
                          "scheme 'explicit'")
-    name, dt, accel = _motion_arrays(motion)
-    h = dt if dt_analysis is None else float(dt_analysis)
-    if not h > 0:
-        raise InputError(f"dt_analysis = {dt_analysis}: must be > 0 s")
+    excitation = Excitation.of(motion, dt_analysis)
+    h = excitation.h
     model = build_frame(b)
-    record_end = (accel.size - 1) * dt
-    n_steps = int(round((record_end + float(free_vibration)) / h))
-    _transient(dt, accel)
+    start_transient(excitation.dt, excitation.accel)
     dampers = FrameDampers(b)
     n = dampers.n
-    stepper = _Stepper()
+    stepper = Stepper()
     checkpoint = NodeCheckpoint() if scheme == "iterative" else None
-
-    floors = model.floor_nodes
-    t = np.zeros(n_steps + 1)
-    u = np.zeros((n_steps + 1, len(floors)))
-    a_rel = np.zeros_like(u)
-    dmp_d = np.zeros((n_steps + 1, n))
-    dmp_f = np.zeros_like(dmp_d)
-    solves, max_solves, unconverged, probes = 0, 0, 0, 0
-    height = b.elevations[-1]
-    done, failed_at = n_steps, None
 
     with tempfile.TemporaryDirectory(prefix="fvd_cosim-") as work:
         fmus = damper_fmus(fmu_path, n, use_velocity, work)
         try:
             wall = time.perf_counter()
+            S_d = S_v = None
             if scheme == "iterative":
                 S_d, S_v = probe_flexibility(dampers, checkpoint, stepper, h)
-                probes = n + 1
-            F = np.zeros(n)
-            for k in range(1, n_steps + 1):
-                tk = t[k - 1]
-                if scheme == "explicit":
-                    dampers.set_forces(F)
-                    ok = stepper.step(h)
-                    used = 1
-                    if ok:
-                        d, v = dampers.read()
-                        F = np.array([f.step(tk, h, d[i], v[i]) for i, f in enumerate(fmus)])
-                else:
-                    ok, used, F, accepted = _iterative_step(fmus, dampers, checkpoint, stepper, tk, h, F,
-                                                            S_d, S_v, tol_d, tol_F, max_iterations)
-                    unconverged += not accepted
-                    if ok:
-                        d, _ = dampers.read()
-                solves += used
-                max_solves = max(max_solves, used)
-                if not ok:
-                    done, failed_at = k - 1, float(tk + h)
-                    break
-                t[k] = ops.getTime()
-                for j, node in enumerate(floors):
-                    u[k, j] = ops.nodeDisp(node, 1)
-                    a_rel[k, j] = ops.nodeAccel(node, 1)
-                if not np.all(np.abs(u[k]) < height):
-                    done, failed_at = k - 1, float(t[k])
-                    break
-                dmp_d[k], dmp_f[k] = d, F
+            coupling = _Coupling(scheme, fmus, dampers, checkpoint, stepper, h, S_d, S_v, tol_d, tol_F,
+                                 max_iterations)
+            steps = step_through(model.floor_nodes, b.elevations[-1], excitation.steps(free_vibration), h, n,
+                                 coupling)
             wall = time.perf_counter() - wall
             fmu_steps = sum(f.steps for f in fmus)
         finally:
@@ -465,15 +421,43 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
                 f.close()
     ops.wipe()
 
-    t, u, drift, a_abs, ag, dmp_d, dmp_f = histories(b, accel, dt, done, t, u, a_rel, dmp_d, dmp_f)
-    energy = loop_energy(dmp_f, dmp_d)
-    steps = max(done, 1)
-    result = FrameResult(b.name, name, t, u, drift, a_abs, ag, dmp_d, dmp_f, model.periods,
-                         model.rayleigh, record_end, _report(stepper, failed_at, t[-1], energy),
-                         [("fmu", str(fmu_path))])
-    stats = CosimStats(scheme, done, solves / steps, max_solves,
-                       fmu_steps / (n * steps), unconverged, probes, wall)
+    result = frame_result(b, excitation, model, steps, stepper, [("fmu", str(fmu_path))])
+    done = max(steps.done, 1)
+    stats = CosimStats(scheme, steps.done, coupling.solves / done, coupling.max_solves,
+                       fmu_steps / (n * done), coupling.unconverged, n + 1 if scheme == "iterative" else 0, wall)
     return result, stats
+
+
+class _Coupling:
+    """``advance`` of ``transient.step_through`` for the co-simulation: one
+    communication step of the scheme from t; returns (d, F) of the dampers
+    at t + h, or None when OpenSees failed.  Counts the OpenSees solves."""
+
+    def __init__(self, scheme, fmus, dampers, checkpoint, stepper, h, S_d, S_v, tol_d, tol_F, max_iterations):
+        self.scheme, self.fmus, self.dampers, self.checkpoint, self.stepper = scheme, fmus, dampers, checkpoint, stepper
+        self.h, self.S_d, self.S_v = h, S_d, S_v
+        self.tol_d, self.tol_F, self.max_iterations = tol_d, tol_F, max_iterations
+        self.F = np.zeros(dampers.n)
+        self.solves, self.max_solves, self.unconverged = 0, 0, 0
+
+    def __call__(self, t: float):
+        h = self.h
+        if self.scheme == "explicit":
+            self.dampers.set_forces(self.F)
+            ok, used = self.stepper.step(h), 1
+            if ok:
+                d, v = self.dampers.read()
+                self.F = np.array([f.step(t, h, d[i], v[i]) for i, f in enumerate(self.fmus)])
+        else:
+            ok, used, self.F, accepted = _iterative_step(self.fmus, self.dampers, self.checkpoint, self.stepper,
+                                                         t, h, self.F, self.S_d, self.S_v, self.tol_d,
+                                                         self.tol_F, self.max_iterations)
+            self.unconverged += not accepted
+            if ok:
+                d, _ = self.dampers.read()
+        self.solves += used
+        self.max_solves = max(self.max_solves, used)
+        return (d, self.F) if ok else None
 
 
 def _iterative_step(fmus, dampers, checkpoint, stepper, t, h, F_prev, S_d, S_v, tol_d, tol_F, max_iterations):

@@ -63,6 +63,7 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True)
                    "series": spread, "verdict": text}
         write_json(os.path.join(stage, "frame_summary.json"), summary)
         if figures:
+            # lazily: matplotlib takes about a second to import, and --no-figures needs none
             from ..plots import frames as figs
 
             fig_dir = os.path.join(stage, "figures")

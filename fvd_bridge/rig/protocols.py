@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, positive
+from ..records.motions import read_two_column, starts_with_number
 
 #: the paper's identification test (section 3): 10 cycles of 40 mm at 0.5 m/s
 PAPER = {"amplitude": 40.0, "velocity": 500.0, "cycles": 10, "dt": 0.002}
@@ -247,8 +248,6 @@ def read_history(path: str) -> HistoryProtocol:
     ignored, '#' comment lines skipped): a rig or lab record can be replayed.
     A file without header is read as plain 2-column text t [s], d [mm]
     (blank, comma or semicolon separated)."""
-    from ..frames.motions import read_two_column, starts_with_number
-
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file")
     with open(path, newline="") as fh:

@@ -1,4 +1,7 @@
-"""Ground motions for frame analyses: the GroundMotion record and its readers.
+"""Ground motions: the GroundMotion record and its readers.
+
+Below both the frames (their excitation) and the rig (``rig.protocols.read_history``
+reads plain 2-column text with ``read_two_column``).
 
 Every reader returns a GroundMotion: ground acceleration [mm/s^2] on a
 uniform time grid of step dt [s]. ``read_motion`` picks the reader from the
