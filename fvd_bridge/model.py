@@ -68,6 +68,10 @@ class Model:
                              f"'{effect.name}' (its step form has no connection)")
         if self.has(effect.name):
             raise InputError(f"model '{text}': effect '{effect.name}' appears twice")
+        taken = {s for e in self.effects for s in e.slots}
+        if taken & set(effect.slots):
+            raise InputError(f"model '{text}': effect '{effect.name}' sets the connection's "
+                             f"{sorted(taken & set(effect.slots))[0]}, which another effect sets")
         model = Model(self.law, self.effects + (effect,))
         names = model.names
         if len(set(names)) != len(names):

@@ -13,7 +13,7 @@ EXAMPLE = {"F": 300.0, "v": 500.0, "d": 40.0}
 def add_parser(sub):
     p = sub.add_parser(
         "effects", help="list the physical effects that combine with any law (spec LAW+EFFECT+...)",
-        description="Physical effects that compose with any of the nine laws: write a model as "
+        description="Physical effects that compose with the laws: write a model as "
                     "LAW+EFFECT+EFFECT, e.g. 2+friction+series_stiffness (parameters 'effect.param'). "
                     "Composition order: series connection (gap, series spring) -> law -> asymmetry, "
                     "heating -> + friction, parallel stiffness (behind a gap), inertia.")
@@ -46,6 +46,8 @@ def run(args) -> int:
             print(f"  {name:<24} [{p.unit}]  bounds [{lo:.4g}, {hi:.4g}]{' log' if p.log else ''}"
                   f"  off {off}  {p.description}")
         print(f"  looks like: {e.symptom}")
+        ops = f"{e.opensees.materials} ({e.opensees.accuracy})" if e.opensees else f"none: {e.no_opensees or 'no form'}"
+        print(f"  exports: OpenSees: {ops}; FMU: {'yes' if e.fmu else 'no'}")
         print()
     if args.gap_figure:
         from ..plots.effects import gap_figure

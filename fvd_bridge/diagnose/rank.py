@@ -122,6 +122,12 @@ class Candidate:
     def spec(self) -> str:
         return self.model.spec
 
+    @property
+    def exports(self) -> dict:
+        """{target: why not ('' when it exports)} of the refitted model
+        (``Model.exports``: the law's and effects' declared forms)."""
+        return self.model.exports(dict(zip(self.fit.names, self.fit.params)))
+
     def as_dict(self) -> dict:
         return {"effect": self.effect, "spec": self.spec, "of": self.of, "improvement": self.improvement,
                 "delta_bic": self.delta_bic, "significant": self.significant, "reason": self.reason,
@@ -129,6 +135,8 @@ class Candidate:
                 "detectable": bool(self.size.detectable) if self.size else True,
                 "plausible": bool(self.size.plausible) if self.size else True,
                 "of_effect_off": self.off_of, "held_out": self.held_out,
+                "exports": [target for target, why in self.exports.items() if not why],
+                "not_exported": {target: why for target, why in self.exports.items() if why},
                 "params": {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}}
 
 

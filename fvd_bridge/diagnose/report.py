@@ -13,6 +13,15 @@ def _params(names, values, units) -> str:
     return ", ".join(f"{n} = {v:.4g} {u}" for n, v, u in zip(names, values, units))
 
 
+def _targets(exports: dict) -> str:
+    """'OpenSees, FMU' or 'FMU (OpenSees has no material for ...)'."""
+    names = {"opensees": "OpenSees", "fmu": "FMU"}
+    ok = [names[t] for t, why in exports.items() if not why]
+    no = [f"{names[t]} has no material for {why}" if t == "opensees" else f"no {names[t]}: {why}"
+          for t, why in exports.items() if why]
+    return ", ".join(ok) + (f" ({'; '.join(no)})" if no else "") if ok else "none (" + "; ".join(no) + ")"
+
+
 def format_diagnosis(diag, record_label: str | None = None) -> str:
     """The short text summary: fit, where it fails, candidates, verdict."""
     f = diag.fit
@@ -55,6 +64,7 @@ def format_diagnosis(diag, record_label: str | None = None) -> str:
         for k, c in enumerate(diag.suggestions[:EXPLAIN_TOP]):
             lead = "suggestion:" if k == 0 else "       also:"
             lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower)")
+            lines.append(f"{'':<12} exports to: {_targets(c.exports)}")
         lines.append(f"next: fvd-bridge diagnose RECORD --law {diag.best.spec}")
     return "\n".join(lines)
 

@@ -21,7 +21,10 @@ output      fn(P, F, x, xv, dt)                      F (pop, n_t): the law's for
                                                      law's displacement and velocity
 parallel    fn(P, t, x, xv, xa)                      a force (pop, n_t) or broadcastable,
                                                      added to the damper's force
-series      (built in: gap and series_stiffness; they need the law in step form)
+series      fn(P) (None: the parameters fill         a tuple of (pop,) values, one for
+            ``slots`` in order; built-in gap and     each of its ``slots``: the
+            series_stiffness)                        connection's spring Ks [kN/mm]
+                                                     and clearance g [mm]
 ==========  =======================================  ===================================
 
 d [mm], v [mm/s], a [mm/s^2], t [s] are the record's (n_t,) arrays, dt [s]
@@ -30,8 +33,11 @@ tension.  Within a stage effects apply in increasing ``order`` (built-ins:
 gap 10, series_stiffness 20, asymmetry 40, thermal_softening 50, friction 60,
 parallel_stiffness 70, inertia 80; a user effect defaults to 100).
 
-The series stage is the connection (``connection.py``): a built-in effect
-declares which of its arguments its parameters fill (``slots``); an effect
+The series stage is the connection (``connection.py``): the law in step form
+behind a spring and a clearance.  An effect declares which of its arguments
+it fills (``slots``: a series effect, a user's too, sets Ks or g, e.g. Ks
+from an oil column's bulk modulus; the built-in element effects fill the
+element's r, theta, Ff, Kp, F0 with their parameters); an effect
 whose ``inside_with`` names a connection effect of the model is solved inside
 that connection, on the law's own motion (asymmetry, heating and friction
 behind a series spring or gap; the accumulator behind a gap only); a user

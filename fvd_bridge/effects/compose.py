@@ -81,8 +81,9 @@ def _connection(model, x, xv, xa, dt, PL, PE, pop, substeps):
     slots = {slot: np.full(pop, off) for slot, off in SLOT_OFF.items()}
     for e in model.effects:
         if e.name in inside:
-            for j, slot in enumerate(e.slots):
-                slots[slot] = PE[e.name][:, j]
+            values = e.function(PE[e.name]) if e.stage == "series" and e.function else PE[e.name].T
+            for slot, value in zip(e.slots, values):
+                slots[slot] = np.broadcast_to(np.asarray(value, dtype=float), (pop,))
     shape = (pop if x.shape[0] > 1 else 1, x.shape[1])
     out = connection_force(model.law.number, PL, np.broadcast_to(x, shape), np.broadcast_to(xv, shape),
                            np.broadcast_to(xa, shape), dt, slots, substeps)

@@ -1,9 +1,10 @@
 """User-defined effects from a Python file (``--plugin path.py``).
 
 A plugin file defines ``EFFECTS``, a list of fvd_bridge.effects.Effect
-(see examples/custom_effect.py).  Effects of stage 'input', 'output' or
-'parallel' are allowed (the series stage needs the law in step form and is
-built in only).  Each is checked on a small synthetic record when loaded, so
+(see examples/custom_effect.py).  Effects of any stage are allowed; a
+series effect sets the connection's spring Ks [kN/mm] and/or clearance g
+[mm] (its ``slots``) from its parameters (``function(P)``: a tuple of (pop,)
+values), and the built-in connection solves the law behind them.  Each is checked on a small synthetic record when loaded, so
 a broken plugin is refused with one line naming the file, never a traceback
 in the middle of a fit.
 """
@@ -23,6 +24,10 @@ import numpy as np
 from ..errors import InputError
 from .base import STAGES, Effect
 from .catalog import EFFECTS as BUILTIN
+from .catalog import SLOT_OFF
+
+#: the connection's own arguments, which a series effect may set
+CONNECTION_SLOTS = ("Ks", "g")
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -73,8 +78,11 @@ def check_effect(e, where: str) -> Effect:
         raise InputError(f"{where}: effect name '{e.name}' must be an identifier (letters, digits, _)")
     if e.stage not in STAGES:
         raise InputError(f"{label}: stage '{e.stage}' (expected input, output or parallel)")
-    if e.stage == "series" or e.slots or e.inside_with:
-        raise InputError(f"{label}: the series stage is built in only (use series_stiffness)")
+    if e.stage == "series" and (not e.slots or not set(e.slots) <= set(CONNECTION_SLOTS)):
+        raise InputError(f"{label}: a series effect sets the connection's {' and/or '.join(CONNECTION_SLOTS)}: "
+                         f"slots {tuple(e.slots)}")
+    if e.stage != "series" and (e.slots or e.inside_with):
+        raise InputError(f"{label}: only a series effect has slots (the element's are built in)")
     if not callable(e.function):
         raise InputError(f"{label}: function is not callable")
     if not e.parameters:
@@ -101,7 +109,9 @@ def check_effect(e, where: str) -> Effect:
     n = rec.n
     x, xv, xa = rec.d[None, :], rec.v[None, :], rec.a[None, :]
     try:
-        if e.stage == "input":
+        if e.stage == "series":
+            arrays = _series_slots(e, np.vstack([np.asarray(e.none, dtype=float), P[1]]), label)
+        elif e.stage == "input":
             out = e.function(P, x, xv, xa, rec.dt)
             if not isinstance(out, tuple) or len(out) != 3:
                 raise InputError(f"{label}: an input effect returns (x, xv, xa)")
@@ -114,7 +124,7 @@ def check_effect(e, where: str) -> Effect:
         raise
     except Exception as exc:
         raise InputError(f"{label}: failed on a test record ({type(exc).__name__}: {exc})") from None
-    for arr in arrays:
+    for arr in arrays if e.stage != "series" else ():
         try:
             arr = np.broadcast_to(np.asarray(arr, dtype=float), (2, n))
         except (ValueError, TypeError):
@@ -124,6 +134,28 @@ def check_effect(e, where: str) -> Effect:
         if not np.all(np.isfinite(arr)):
             raise InputError(f"{label}: returned non-finite values on a test record")
     return e
+
+
+def _series_slots(e, P, label: str) -> tuple:
+    """A series effect's slot values on the probe rows (its 'off' values,
+    then mid-bounds): one (pop,) array per slot, the first row at the
+    slots' own 'off' values (a rigid spring, no clearance: nesting)."""
+    out = e.function(P)
+    if not isinstance(out, tuple) or len(out) != len(e.slots):
+        raise InputError(f"{label}: a series effect returns a tuple of {len(e.slots)} arrays ({', '.join(e.slots)})")
+    arrays = []
+    for slot, value in zip(e.slots, out):
+        try:
+            arr = np.broadcast_to(np.asarray(value, dtype=float), (P.shape[0],))
+        except (ValueError, TypeError):
+            raise InputError(f"{label}: its {slot} has shape {np.shape(value)}, expected ({P.shape[0]},)") from None
+        if arr[0] != SLOT_OFF[slot]:
+            raise InputError(f"{label}: at its 'no effect' values {tuple(e.none)} its {slot} is {arr[0]:g}, "
+                             f"not {SLOT_OFF[slot]:g} (models must be nested)")
+        if np.isnan(arr).any() or arr[1] < 0.0:
+            raise InputError(f"{label}: its {slot} must be a number >= 0 (got {arr[1]:g} mid-bounds)")
+        arrays.append(arr)
+    return tuple(arrays)
 
 
 def load_plugins(paths) -> dict:
