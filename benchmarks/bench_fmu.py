@@ -163,7 +163,7 @@ def fmu_speed(args) -> None:
     from fvd_bridge.calibration import Calibration
     from fvd_bridge.export.fmu import build_fmu, substeps_of
     from fvd_bridge.golden import REFERENCE
-    from fvd_bridge.model import parse_model
+    from fvd_bridge.catalog import parse_model
 
     n_sub = substeps_of(args.h, args.h_max)
     print(f"damper FMU, communication step h = {args.h:g} s, h_max = {args.h_max:g} s: {n_sub} sub-steps per "

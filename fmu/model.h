@@ -1,5 +1,6 @@
 /* The interface between the FMI 3 layer (fmi3Functions.c) and the damper
- * (model.c).  Adapted from the Modelica Reference-FMUs, include/model.h
+ * (model.c, with the physics of laws.c and effects.c).  Adapted from the
+ * Modelica Reference-FMUs, include/model.h
  * (https://github.com/modelica/Reference-FMUs), reduced to FMI 3.0
  * co-simulation; the original licence follows.
  *
@@ -37,8 +38,26 @@
 #include <stdint.h>
 
 #include "config.h"
+#include "damper.h"
 
 #define UNUSED(x) (void)(x)
+
+/* the damper FMU's data (model.c): variables by value reference (config.h, generated) and state */
+typedef struct {
+    /* variables */
+    double value[N_VR];          /* every Float64 variable, by value reference */
+    bool flag[N_VR];             /* every Boolean variable, by value reference */
+    int32_t law;                 /* the law's number (config.h: LAW_IN_FMU) */
+    /* the damper between communication points */
+    Damper damper;               /* model_history's loop variables (damper.h) */
+    bool on[N_EFFECTS];          /* the effects' switches (EFFECT_NAMES order), set at initialization */
+    double p_eff[N_EFFECT_PAR];  /* the effects' parameters (PARAMETERS order), as last checked */
+    bool connection;             /* the law is behind a connection (fixed at initialization) */
+    double d_last[2], v_last[2]; /* the pin's d [mm], v [mm/s] at the last two samples */
+    double h_last;               /* the last communication step [s] */
+    double Fv_last;              /* F v at the last sample [kN mm/s] (energy) */
+    int32_t samples;             /* samples taken since rest */
+} ModelData;
 
 typedef enum {
     StartAndEnd            = 1 << 0,

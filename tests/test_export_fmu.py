@@ -1,10 +1,13 @@
 """FMU export: every law and model golden built, validated by FMPy and
 simulated against the Python model; the C code against the scalar Python it
 mirrors; sub-steps; FMU state; bad parameters and inputs; what cannot be
-exported; the model description against config.h and the catalogs."""
+exported; the interface generated from the registry (config.h, the model
+description) against the catalogs; tunable and fixed parameters; the
+metadata."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import shutil
@@ -24,14 +27,16 @@ from fvd_bridge.calibration import Calibration  # noqa: E402
 from fvd_bridge.effects import EFFECTS, Effect, Parameter  # noqa: E402
 from fvd_bridge.errors import InputError  # noqa: E402
 from fvd_bridge.export import fmu as fmu_export  # noqa: E402
+from fvd_bridge.export import fmu_interface  # noqa: E402
 from fvd_bridge.export.fmu import (FMU_SOURCES, OF_BOUND, build_fmu, end_of_step_input, simulate,  # noqa: E402
                                    validate)
 from fvd_bridge.fit.objective import objective  # noqa: E402
 from fvd_bridge.golden import GOLDEN_DIR, MODEL_SPECS, golden_record, read_golden, reference_params  # noqa: E402
 from fvd_bridge.laws import LAWS  # noqa: E402
-from fvd_bridge.model import parse_model  # noqa: E402
+from fvd_bridge.catalog import parse_model  # noqa: E402
 
-SPECS = tuple(str(n) for n in range(1, 10)) + MODEL_SPECS
+#: every law the FMU's C code carries (Law.fmu), and the model goldens
+SPECS = tuple(str(n) for n, law in LAWS.items() if getattr(law, "fmu", True)) + MODEL_SPECS
 ALL_EFFECTS = MODEL_SPECS[-1]  # law 2 with every effect: every state variable of the FMU
 #: the C mirrors the scalar Python: rounding, and law 7's Newton tolerance (1e-10 in ln|z|)
 MIRROR_OF = 1e-11
@@ -215,7 +220,7 @@ def test_bad_law_number_and_non_finite_values_are_errors(built, tmp_path):
     run = Slave(path, tmp_path / "law")
     with pytest.raises(FMICallException):
         run.fmu.setInt32([run.vr["law"]], [12])
-    assert "law = 12: the law's number must be 1-9." in run.messages
+    assert f"law = 12: the law's number must be 1-{max(LAWS)}." in run.messages
     run = Slave(path, tmp_path / "inf")
     with pytest.raises(FMICallException):
         run.fmu.setFloat64([run.vr["law2.C"]], [math.inf])
@@ -250,8 +255,9 @@ def test_fmu_contents_and_metadata(built, tmp_path):
     with zipfile.ZipFile(path) as zf:
         names = set(zf.namelist())
         header = zf.read("sources/calibration.h").decode()
-    assert {"modelDescription.xml", "sources/model.c", "sources/fmi3Functions.c", "sources/config.h",
-            "sources/buildDescription.xml", "binaries/x86_64-linux/fvd_damper.so"} <= names
+    assert {"modelDescription.xml", "sources/model.c", "sources/laws.c", "sources/effects.c", "sources/damper.h",
+            "sources/fmi3Functions.c", "sources/config.h", "sources/buildDescription.xml",
+            "binaries/x86_64-linux/fvd_damper.so"} <= names
     assert not any(re.match(r"sources/fmi3(Functions|FunctionTypes|PlatformTypes)\.h$", n) for n in names)
     md = read_model_description(path)
     assert f'#define INSTANTIATION_TOKEN "{md.guid}"' in header
@@ -259,6 +265,9 @@ def test_fmu_contents_and_metadata(built, tmp_path):
     assert start["law"] == "2" and start["friction.enabled"] == "true" and start["gap.enabled"] == "false"
     assert float(start["law2.C"]) == cal.named()["C"] and float(start["friction.Ff"]) == cal.named()["friction.Ff"]
     assert "2+friction" in md.description and "END of the step" in md.description
+    assert md.description.startswith(f"damper: {LAWS[2].name} with friction (")
+    with zipfile.ZipFile(path) as zf:
+        assert zf.read("sources/config.h").decode() == fmu_interface.config_header()
     root = ET.fromstring(zipfile.ZipFile(path).read("modelDescription.xml"))
     ann = root.find("Annotations/Annotation/Calibration")
     assert ann.get("model") == "2+friction"
@@ -298,30 +307,63 @@ def test_bad_h_max_is_an_input_error(h_max, tmp_path):
         build_fmu(calibration("2"), tmp_path / "x.fmu", h_max=h_max)
 
 
-# ------------------------------------------- the model description template
-def template_variables() -> list:
-    root = ET.parse(FMU_SOURCES / "modelDescription.xml").getroot()
+# ------------------------------------- the interface generated from the registry
+def generated_variables() -> list:
+    """The ModelVariables of the generated model description, by value reference."""
+    root = fmu_interface.model_description()
     return sorted(root.find("ModelVariables"), key=lambda v: int(v.get("valueReference")))
 
 
-def test_value_references_are_config_h_order():
-    text = (FMU_SOURCES / "config.h").read_text()
+def config_enum(text: str) -> list:
     body = re.search(r"typedef enum \{(.*?)\} ValueReference;", text, re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
-    enum = [name.strip() for name in body.split(",") if name.strip()]
-    variables = template_variables()
+    return [name.strip() for name in body.split(",") if name.strip()]
+
+
+def test_interface_is_generated_not_kept():
+    """config.h and modelDescription.xml are written by build_fmu from the
+    registry; fmu/ holds only hand-kept sources, none over 700 lines."""
+    assert not (FMU_SOURCES / "config.h").exists() and not (FMU_SOURCES / "modelDescription.xml").exists()
+    for name in fmu_export.SOURCE_FILES:
+        assert (FMU_SOURCES / name).is_file()
+    for path in FMU_SOURCES.glob("*.c"):
+        assert len(path.read_text().splitlines()) <= 700, path.name
+
+
+def test_value_references_are_config_h_order():
+    """The generated config.h enumerates the generated model description's
+    variables in value-reference order; its tables point at each law's and
+    effect's parameters."""
+    from fvd_bridge.effects.scalar import EFFECT_NAMES, PARAMETERS
+
+    text = fmu_interface.config_header()
+    variables = generated_variables()
     assert [int(v.get("valueReference")) for v in variables] == list(range(len(variables)))
-    assert enum == ["vr_" + v.get("name").replace(".", "_") for v in variables] + ["N_VR"]
+    assert config_enum(text) == ["vr_" + v.get("name").replace(".", "_") for v in variables] + ["N_VR"]
+    vr = {v.get("name"): int(v.get("valueReference")) for v in variables}
+    table = {m.group(1): [x.strip() for x in m.group(2).split(",")]
+             for m in re.finditer(r"#define (\w+)_VALUES \{ (.*?) \}", text)}
+    enum = config_enum(text)
+    assert f"#define N_LAWS {max(LAWS)}" in text
+    for number, law in LAWS.items():
+        first = vr[f"law{number}.{law.parameters[0].name}"]
+        assert table["LAW_FIRST_VR"][number] == enum[first]
+        assert int(table["LAW_N_PAR"][number]) == len(law.parameters)
+        # a law's parameters are consecutive: the C reads them from the first
+        assert [vr[f"law{number}.{p.name}"] for p in law.parameters] == list(range(first, first + len(law.parameters)))
+    assert table["EFFECT_ENABLED_VR"] == [enum[vr[f"{name}.enabled"]] for name in EFFECT_NAMES]
+    assert table["EFFECT_PAR_VR"] == [enum[vr[name]] for name in PARAMETERS]
 
 
 def test_parameters_have_the_catalogs_units():
     """Every law and effect parameter is a variable, with the catalog's unit
-    ('-': none) and the golden reference or 'off' value as default start."""
+    ('-': none) and the golden reference or 'off' value as default start;
+    every unit used is defined."""
     from fvd_bridge.golden import REFERENCE
 
-    variables = {v.get("name"): v for v in template_variables()}
+    variables = {v.get("name"): v for v in generated_variables()}
     for number, law in LAWS.items():
-        for p, x in zip(law.parameters, REFERENCE[number]):
+        for p, x in zip(law.parameters, REFERENCE.get(number, getattr(law, "reference", ()))):
             v = variables[f"law{number}.{p.name}"]
             assert v.get("unit") == (None if p.unit == "-" else p.unit)
             assert float(v.get("start")) == x
@@ -331,27 +373,156 @@ def test_parameters_have_the_catalogs_units():
             v = variables[name]
             assert v.get("unit") == (None if p.unit == "-" else p.unit)
             assert float(v.get("start")) == (1e6 if off == math.inf else off)
+    units = {u.get("name") for u in fmu_interface.model_description().find("UnitDefinitions")}
+    assert {v.get("unit") for v in variables.values() if v.get("unit")} <= units
 
 
-def test_model_c_mirrors_the_python_step_forms():
-    """Every scalar step function of the reference modules has its C twin in
-    model.c under the same name (a private _name as name_); not mirrored:
-    the population drivers, and the loops over samples history and
-    model_history, whose bodies (law_sample + force, model_history_sample)
-    run once per fmi3DoStep."""
+def test_a_new_law_appears_in_the_interface(monkeypatch):
+    """The generator reads the registry: a law added to LAWS (here one the C
+    does not carry) is in the model description and config.h's tables with
+    no change to the generator; the law variable's range grows with it."""
+    from fvd_bridge.laws.base import Parameter as LawParameter
+
+    n = max(LAWS) + 1
+    law = dataclasses.replace(LAWS[2], number=n, name="test law", equation="F = Q v^r",
+                              parameters=(LawParameter("Q", "kN/(mm/s)", (0.0, 1.0), lambda s: (0.0, 1.0), "q"),
+                                          LawParameter("r", "-", (0.0, 1.0), lambda s: (0.0, 1.0), "r")))
+    if hasattr(law, "fmu"):
+        law = dataclasses.replace(law, fmu=False)
+    monkeypatch.setitem(LAWS, n, law)
+    variables = {v.get("name"): v for v in generated_variables()}
+    assert variables[f"law{n}.Q"].get("unit") == "kN/(mm/s)" and variables[f"law{n}.r"].get("unit") is None
+    assert variables["law"].get("max") == str(n)
+    text = fmu_interface.config_header()
+    assert f"#define N_LAWS {n}" in text and f"vr_law{n}_Q, vr_law{n}_r," in text.replace("\n   ", "")
+    table = {m.group(1): [x.strip() for x in m.group(2).split(",")]
+             for m in re.finditer(r"#define (\w+)_VALUES \{ (.*?) \}", text)}
+    assert table["LAW_FIRST_VR"][n] == f"vr_law{n}_Q" and table["LAW_N_PAR"][n] == "2"
+    if hasattr(law, "fmu"):
+        assert table["LAW_IN_FMU"][n] == "false"
+        model = dataclasses.replace(parse_model("2"), law=law)
+        with pytest.raises(InputError, match=f"law {n} \\(test law\\) has no C form"):
+            fmu_export.start_values(Calibration(model, np.array([0.5, 0.5]), of=0.0), 1e-3)
+
+
+def test_physics_files_mirror_the_python_step_forms():
+    """Every scalar step function of the reference modules has its C twin
+    under the same name (a private _name as name_): the laws' in fmu/laws.c,
+    the effects' in fmu/effects.c; not mirrored: the population drivers, and
+    the loops over samples history and model_history, whose bodies
+    (law_sample + force, model_history_sample) run once per fmi3DoStep.
+    model.c, the FMI plumbing, names no law parameter."""
     import importlib
+    import importlib.util
 
     from numba.core.registry import CPUDispatcher
 
-    loops = {"history", "model_history", "thermal_population", "series_population"}
-    c_names = set(re.findall(r"^static\s[\w\s*]*?\b(\w+)\(", (FMU_SOURCES / "model.c").read_text(), re.M))
-    for module in ("fvd_bridge.laws.steps", "fvd_bridge.laws.trbdf2", "fvd_bridge.laws.scalar",
-                   "fvd_bridge.effects.steps", "fvd_bridge.effects.scalar"):
-        functions = [n for n, f in vars(importlib.import_module(module)).items()
-                     if isinstance(f, CPUDispatcher) and f.py_func.__module__ == module and n not in loops]
-        assert functions
-        missing = [n for n in functions if (n[1:] + "_" if n.startswith("_") else n) not in c_names]
-        assert not missing, f"{module}: no C twin in fmu/model.c for {missing}"
+    loops = {"history", "model_history", "thermal_population", "series_population", "members"}
+    mirrors = {"laws.c": ("fvd_bridge.laws.steps", "fvd_bridge.laws.trbdf2", "fvd_bridge.laws.oil",
+                          "fvd_bridge.laws.scalar"),
+               "effects.c": ("fvd_bridge.effects.steps", "fvd_bridge.effects.element",
+                             "fvd_bridge.effects.connection", "fvd_bridge.effects.scalar")}
+    for c_file, modules in mirrors.items():
+        c_names = set(re.findall(r"^static\s[\w\s*]*?\b(\w+)\(", (FMU_SOURCES / c_file).read_text(), re.M))
+        checked = 0
+        for module in modules:
+            if importlib.util.find_spec(module) is None:  # a module of the registry's step forms not (yet) there
+                continue
+            functions = [n for n, f in vars(importlib.import_module(module)).items()
+                         if isinstance(f, CPUDispatcher) and f.py_func.__module__ == module and n not in loops]
+            missing = [n for n in functions if (n[1:] + "_" if n.startswith("_") else n) not in c_names]
+            assert not missing, f"{module}: no C twin in fmu/{c_file} for {missing}"
+            checked += len(functions)
+        assert checked
+    plumbing = (FMU_SOURCES / "model.c").read_text()
+    assert not re.search(r"\bvr_law\d+_", plumbing) and not re.search(r"\bvr_(gap|friction|inertia)_", plumbing)
+
+
+# --------------------------------------------------- tunable and fixed parameters
+@toolchain
+def test_only_the_model_parameters_are_tunable(built, tmp_path):
+    """The model's own parameters are tunable (settable between steps, checked
+    when set), every other law's and effect's fixed (refused after
+    initialization), the structural ones unchanged; FMPy finds the file valid."""
+    from fmpy.validation import validate_fmu
+
+    cal, path, record, _ = built("2+friction")
+    assert validate_fmu(path) == []
+    md = read_model_description(path)
+    var = {v.name: v for v in md.modelVariables}
+    tunable = {v.name for v in md.modelVariables if v.variability == "tunable"}
+    assert tunable == {"law2.C", "law2.alpha", "friction.Ff"}
+    assert all(var[n].causality == "parameter" for n in tunable)
+    for name in ("law1.C", "law7.K", "gap.g", "series_stiffness.Ks", "h_max"):
+        assert var[name].causality == "parameter" and var[name].variability == "fixed"
+    for name in ("law", "friction.enabled", "use_velocity_input"):
+        assert var[name].causality == "structuralParameter" and var[name].variability == "fixed"
+    t, d, dt = record.t, record.d, record.dt
+
+    def running(name):
+        run = Slave(path, tmp_path / name)
+        run.initialize(d[0])
+        for k in range(1, 200):
+            run.step(t[k - 1], dt, d[k])
+        return run
+
+    # an Error ends the instance (as in the Reference-FMUs): one instance per refusal
+    for name, value, words in (("law7.K", 50.0, "law7.K is a fixed parameter"),
+                               ("h_max", 1e-4, "h_max is a fixed parameter"),
+                               ("law2.alpha", -0.5, "law2.alpha = -0.5: the damping exponent must be >= 0")):
+        run = running(name)
+        with pytest.raises(FMICallException) as exc:
+            run.fmu.setFloat64([run.vr[name]], [value])
+        assert exc.value.status == 3  # fmi3Error
+        assert any(words in m for m in run.messages), run.messages
+    run = running("tuned")
+    state = run.fmu.getFMUState()  # the parameters' values included
+    F1 = run.step(t[199], dt, d[200])[0]
+    run.fmu.setFMUState(state)
+    run.fmu.setFloat64([run.vr["law2.C"]], [2.0 * cal.named()["C"]])
+    F2 = run.step(t[199], dt, d[200])[0]
+    run.fmu.setFMUState(state)
+    run.fmu.setFloat64([run.vr["law2.C"], run.vr["friction.Ff"]], [2.0 * cal.named()["C"], 0.0])
+    F3 = run.step(t[199], dt, d[200])[0]
+    # law 2 is algebraic: F = C sign(v)|v|^alpha + Ff tanh(v), so the tuned values act at once
+    assert abs(F2 - F1) > 1.0
+    assert F3 == pytest.approx(2.0 * (F2 - F1), rel=1e-9)
+
+
+@toolchain
+def test_tuning_cannot_switch_the_connection(tmp_path):
+    """A series spring cannot be made rigid between steps (its state would be lost)."""
+    path = build_fmu(calibration("2+series_stiffness"), tmp_path / "series.fmu")
+    for name, Ks in (("rigid", 1e7), ("softer", 80.0)):
+        run = Slave(path, tmp_path / name)
+        run.initialize(0.0)
+        run.step(0.0, 0.005, 0.1)
+        if Ks > 1e6:
+            with pytest.raises(FMICallException):
+                run.fmu.setFloat64([run.vr["series_stiffness.Ks"]], [Ks])
+            assert any("series_stiffness.Ks = 10000000: it would switch" in m for m in run.messages), run.messages
+        else:
+            run.fmu.setFloat64([run.vr["series_stiffness.Ks"]], [Ks])
+            assert run.step(0.005, 0.005, 0.2)[0] != 0.0
+
+
+def test_metadata_name_the_law_and_no_local_path():
+    """The description names the device by its law (Law.name) and effects; the
+    description and the annotation hold the record's file name, never its
+    local path."""
+    cal = calibration("9+friction")
+    cal = dataclasses.replace(cal, path="/home/someone/work/rig/law.yaml",
+                              record={"name": "run 3", "file": "/home/someone/work/rig/run3.csv", "format": "csv",
+                                      "samples": 100, "dt": 0.005, "peaks": {"F": 300.0}})
+    root = fmu_export.model_description(cal, fmu_export.start_values(cal, 0.005), "{token}")
+    text = ET.tostring(root, encoding="unicode")
+    description = root.get("description")
+    assert description.startswith(f"run 3: {LAWS[9].name} with friction (")
+    assert "fluid-viscous damper model" not in description
+    assert "run3.csv" in description and "/home/someone" not in text
+    record = root.find("Annotations/Annotation/Calibration/Record")
+    assert record.get("file") == "run3.csv"
+    assert root.find("Annotations/Annotation/Calibration").get("file") == "law.yaml"
 
 
 # ------------------------------------------------------------ the export verb

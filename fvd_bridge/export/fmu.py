@@ -1,13 +1,16 @@
 """FMI 3.0 co-simulation FMU of a calibrated damper: build and validate.
 
 ``build_fmu(calibration, path)`` writes one FMU that holds the C sources of
-the repository's ``fmu/`` folder (one model for the nine laws and the seven
-built-in effects, chosen by structural parameters; model.c mirrors
-``laws/scalar.py`` and ``effects/scalar.py`` function for function) with the
-calibrated parameters as start values, compiled for this platform by FMPy's
-CMake project (``fmpy.build.build_platform_binary``; needs cmake and a C
-compiler).  ``validate(fmu, calibration, record)`` checks it with FMPy and
-returns the OF (paper eq. 18) of its force against the Python model's.
+the repository's ``fmu/`` folder (one model for every law and built-in effect
+of the registry, chosen by structural parameters; laws.c and effects.c mirror
+the Python step forms function for function, model.c is the FMI plumbing)
+and the interface generated from the registry (``fmu_interface``:
+``config.h`` and ``modelDescription.xml``, with the calibrated parameters as
+start values, the model's own parameters tunable and every other one fixed),
+compiled for this platform by FMPy's CMake project
+(``fmpy.build.build_platform_binary``; needs cmake and a C compiler).
+``validate(fmu, calibration, record)`` checks it with FMPy and returns the
+OF (paper eq. 18) of its force against the Python model's.
 
 Co-simulation convention (the FMU's inputs): before ``fmi3DoStep(t, h)`` the
 master sets the pin's displacement d [mm] at the END of the step, d(t + h);
@@ -16,7 +19,7 @@ its outputs F [kN], z, E [kN mm] are the values at t + h.  The velocity and
 acceleration are derived from the samples of d (second-order backward
 differences, from rest), or taken from the inputs v [mm/s], a [mm/s^2]
 with the structural parameters use_velocity_input, use_acceleration_input.
-Variables: ``fmu/modelDescription.xml``; law parameters are named
+Variables: ``fmu_interface.variables()``; law parameters are named
 ``law<N>.<name>`` (law2.C), effect parameters as in the calibration file
 (friction.Ff), effects switched by ``<effect>.enabled``.
 """
@@ -39,11 +42,14 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError, positive
+from . import fmu_interface
+from .fmu_interface import MODEL_IDENTIFIER
 
-#: the C sources, model description template and build description (the repository's fmu/ folder)
+#: the hand-kept C sources and build description (the repository's fmu/ folder)
 FMU_SOURCES = Path(__file__).resolve().parents[2] / "fmu"
-SOURCE_FILES = ("config.h", "model.h", "model.c", "fmi3Functions.c")
-MODEL_IDENTIFIER = "fvd_damper"
+SOURCE_FILES = ("model.h", "damper.h", "model.c", "laws.c", "effects.c", "fmi3Functions.c")
+#: written into the FMU by build_fmu, generated from the registry (fmu_interface) and the calibration
+GENERATED_FILES = ("sources/config.h", "sources/calibration.h", "modelDescription.xml")
 #: largest sub-step [s] when neither h_max nor the calibration record's dt is given
 DEFAULT_H_MAX = 1e-3
 #: OF (eq. 18) an FMU must reach against the Python model on a record, d as its only input
@@ -73,6 +79,7 @@ def build_fmu(calibration, path, h_max: float | None = None) -> str:
             shutil.copy(_source(name), sources / name)
         root = model_description(calibration, values, token)
         ET.ElementTree(root).write(unzipdir / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
+        (sources / "config.h").write_text(fmu_interface.config_header())
         (sources / "calibration.h").write_text(calibration_header(root))
         _compile(unzipdir, Path(work) / "build")
         partial = f"{path}.partial-{os.getpid()}"
@@ -96,35 +103,43 @@ def start_values(calibration, h_max: float) -> dict:
 
     model = calibration.model
     for e in model.effects:
-        if EFFECTS.get(e.name) is not e:
+        if EFFECTS.get(e.name) is not e or not getattr(e, "fmu", True):
             raise InputError(f"model '{model.spec}': effect '{e.name}' ({e.source}) cannot go into the FMU, "
                              f"which holds the built-in effects only ({', '.join(EFFECT_NAMES)})")
+    if not getattr(model.law, "fmu", True):
+        raise InputError(f"model '{model.spec}': law {model.law.number} ({model.law.name}) has no C form in "
+                         "the FMU (fmu/laws.c)")
     number = model.law.number
     values = {"law": number, "h_max": h_max}
     values.update({f"{name}.enabled": model.has(name) for name in EFFECT_NAMES})
     for name, x in calibration.named().items():
-        key = name if "." in name else f"law{number}.{name}"
+        key = _variable(number, name)
         if not (math.isfinite(x) or (name == "series_stiffness.Ks" and x == math.inf)):
             raise InputError(f"model '{model.spec}': parameter '{name}' = {x}: not a finite number")
         values[key] = float(x)
     return values
 
 
+def tunable_parameters(calibration) -> list:
+    """The FMU variables of the calibrated model's own parameters (its law's
+    'law<N>.<name>' and its effects' 'friction.Ff'): tunable in its FMU."""
+    number = calibration.model.law.number
+    return [_variable(number, name) for name in calibration.model.names]
+
+
 def model_description(calibration, values: dict, token: str) -> ET.Element:
-    """The FMU's modelDescription.xml (fmu/modelDescription.xml with the start
-    values, the token, the description and an fvd_bridge annotation)."""
-    root = ET.parse(_source("modelDescription.xml")).getroot()
-    variables = {v.get("name"): v for v in root.find("ModelVariables")}
-    unknown = sorted(set(values) - set(variables))
-    if unknown:
-        raise InputError(f"model '{calibration.spec}': no FMU variable for {', '.join(unknown)}")
-    for name, x in values.items():
-        variables[name].set("start", _xml_value(x))
+    """The FMU's modelDescription.xml: the variables generated from the
+    registry (``fmu_interface.model_description``) with the start values,
+    the model's own parameters tunable and every other one fixed, the token,
+    the description and an fvd_bridge annotation."""
+    try:
+        root = fmu_interface.model_description(tunable=tunable_parameters(calibration), start=values,
+                                               description=_description(calibration))
+    except KeyError as exc:
+        raise InputError(f"model '{calibration.spec}': no FMU variable for {exc.args[0]}") from None
     root.set("instantiationToken", token)
-    root.set("description", _description(calibration))
     root.set("generationTool", f"fvd_bridge {__version__}")
     root.set("generationDateAndTime", datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
-    root.find("DefaultExperiment").set("stepSize", _xml_value(values["h_max"]))
     annotations = _annotation(calibration)
     ET.indent(annotations, space="  ", level=1)
     root[-1].tail, annotations.tail = "\n\n  ", "\n\n"
@@ -134,12 +149,15 @@ def model_description(calibration, values: dict, token: str) -> ET.Element:
 
 def calibration_header(root: ET.Element) -> str:
     """sources/calibration.h: the token and every start value of the model
-    description, by value reference, and the variables' names (messages)."""
-    float64, boolean, names = [], [], []
+    description, by value reference, the variables' names (messages) and
+    which parameters are tunable."""
+    float64, boolean, names, tunable = [], [], [], ["[0] = false"]
     law = None
     for v in root.find("ModelVariables"):
         vr, start = int(v.get("valueReference")), v.get("start")
         names.append(f'[{vr}] = "{v.get("name")}"')
+        if v.get("variability") == "tunable":
+            tunable.append(f"[{vr}] = true")
         if start is None:
             continue
         if v.tag == "Float64":
@@ -148,12 +166,13 @@ def calibration_header(root: ET.Element) -> str:
             boolean.append(f"[{vr}] = {start}")
         elif v.get("name") == "law":
             law = int(start)
-    lines = ["/* Written by fvd_bridge.export.fmu.build_fmu: the instantiation token and the start values of",
-             " * modelDescription.xml, by value reference.  Do not edit. */",
+    lines = ["/* Written by fvd_bridge.export.fmu.build_fmu: the instantiation token, the start values of",
+             " * modelDescription.xml by value reference, the variables' names and the tunable parameters.",
+             " * Do not edit. */",
              f'#define INSTANTIATION_TOKEN "{root.get("instantiationToken")}"',
              f"#define START_LAW {law}",
              _c_list("START_FLOAT64", float64), _c_list("START_BOOLEAN", boolean),
-             _c_list("VARIABLE_NAMES", names)]
+             _c_list("VARIABLE_NAMES", names), _c_list("TUNABLE_PARAMETERS", tunable)]
     return "\n".join(lines) + "\n"
 
 
@@ -239,6 +258,11 @@ def _source(name: str) -> Path:
     return path
 
 
+def _variable(number: int, name: str) -> str:
+    """The FMU variable of a model parameter: an effect's as named ('friction.Ff'), a law's 'law<N>.<name>'."""
+    return name if "." in name else fmu_interface.law_parameter_name(number, name)
+
+
 def _h_max(calibration, h_max) -> float:
     if h_max is None:
         h_max = (calibration.record or {}).get("dt") or DEFAULT_H_MAX
@@ -252,13 +276,22 @@ def _device(calibration) -> str:
     return Path(calibration.path).parent.name if calibration.path else "damper"
 
 
+def _record_file(calibration) -> str | None:
+    """The calibration record's file name (its basename: no local path goes into the FMU)."""
+    file = (calibration.record or {}).get("file")
+    return os.path.basename(str(file)) if file else None
+
+
 def _description(calibration) -> str:
+    """The FMU's description: the device, named by its law (Law.name) and effects, the model, the calibration."""
     model, law = calibration.model, calibration.model.law
     rec = calibration.record or {}
-    effects = "; ".join(f"{e.name}: {e.equation}" for e in model.effects) or "no effects"
-    source = f" on record {rec.get('name')}" + (f" ({rec.get('file')})" if rec.get("file") else "") if rec else ""
-    return (f"{_device(calibration)}: fluid-viscous damper model {model.spec} calibrated by fvd_bridge "
-            f"(OF {calibration.of:.4g}{source}); law {law.number} {law.name}: {law.equation}; {effects}. "
+    kind = law.name + (" with " + ", ".join(e.name.replace("_", " ") for e in model.effects) if model.effects else "")
+    effects = "".join(f"; {e.name}: {e.equation}" for e in model.effects)
+    file = _record_file(calibration)
+    source = (f" on record {rec.get('name')}" + (f" ({file})" if file else "")) if rec else ""
+    return (f"{_device(calibration)}: {kind} (fvd_bridge model {model.spec}: law {law.number}, {law.equation}"
+            f"{effects}), calibrated by fvd_bridge to OF {calibration.of:.4g}{source}. "
             "Set d(t + h) [mm], the pin's displacement at the END of the step, before fmi3DoStep(t, h); "
             "units kN, mm, s.")
 
@@ -279,19 +312,13 @@ def _annotation(calibration) -> ET.Element:
         ET.SubElement(cal, "Parameter", name=name, unit=unit, value=repr(float(x)))
     rec = calibration.record or {}
     if rec:
-        r = ET.SubElement(cal, "Record", {k: str(rec[k]) for k in ("name", "file", "format", "samples", "dt")
+        r = ET.SubElement(cal, "Record", {k: str(rec[k]) for k in ("name", "format", "samples", "dt")
                                            if rec.get(k) is not None})
+        if _record_file(calibration):
+            r.set("file", _record_file(calibration))
         for key, value in (rec.get("peaks") or {}).items():
             ET.SubElement(r, "Peak", quantity=str(key), value=repr(float(value)))
     return annotations
-
-
-def _xml_value(x) -> str:
-    if isinstance(x, bool):
-        return "true" if x else "false"
-    if isinstance(x, int):
-        return str(x)
-    return "INF" if x == math.inf else repr(float(x))
 
 
 def _c_value(x: float) -> str:
