@@ -1,27 +1,41 @@
-"""``fvd-bridge laws``: the nine laws with equation, parameters, units and bounds."""
+"""``fvd-bridge laws``: every law with equation, parameters, units, bounds and
+what it can do (state, device kind, export targets), read from the registry."""
 
 from __future__ import annotations
 
-from ..laws import LAWS
+from ..laws import LAWS, PAPER_SPEC
+
+EXAMPLE = {"F": 300.0, "v": 500.0, "d": 40.0}
 
 
 def add_parser(sub):
-    p = sub.add_parser("laws", help="list the nine FVD laws: equation, parameters, units, paper bounds",
-                       description="The nine FVD laws of the paper: equation, source, parameters with units, "
-                                   "the paper's Table 4 bounds and the 'auto' bounds derived from a record.")
+    p = sub.add_parser("laws", help="list the FVD laws: equation, parameters, units, bounds, export targets",
+                       description=f"The FVD laws: the paper's nine ({PAPER_SPEC}) and the others declared "
+                                   "in the registry, each with its equation, source, parameters with units, "
+                                   "the paper's Table 4 bounds (a literature default for the others), the 'auto' "
+                                   "bounds derived from a record, and its OpenSees and FMU targets.")
     p.set_defaults(func=run)
 
 
+def targets(law) -> str:
+    """'OpenSees: Viscous C alpha (exact); FMU' from the law's declarations."""
+    form = law.opensees
+    ops = f"OpenSees: {form.materials} ({form.accuracy})" if form else "OpenSees: none"
+    return f"{ops}; FMU: {'yes' if law.fmu else 'no'}"
+
+
 def run(args) -> int:
-    example = {"F": 300.0, "v": 500.0, "d": 40.0}
     print("auto bounds shown for a record with peak F 300 kN, v 500 mm/s, d 40 mm\n")
     for law in LAWS.values():
-        print(f"law {law.number}: {law.name} ({law.kind})")
+        state = f", state {', '.join(law.state)}" if law.state else ""
+        paper = "" if law.paper else ", not in the paper"
+        print(f"law {law.number}: {law.name} ({law.kind}{state}; {law.device} device{paper})")
         print(f"  {law.equation}")
         print(f"  source: {law.source}")
         if law.note:
             print(f"  note: {law.note}")
-        auto = law.bounds("auto", example)
+        print(f"  exports: {targets(law)}")
+        auto = law.bounds("auto", EXAMPLE)
         for par, (lo, hi) in zip(law.parameters, auto):
             print(f"  {par.name:<6} [{par.unit}]  paper [{par.paper[0]:g}, {par.paper[1]:g}]  "
                   f"auto [{lo:.4g}, {hi:.4g}]  {par.description}")

@@ -89,7 +89,8 @@ class Law:
     vanishes at rest; ``connection``: its step form can sit behind a series
     spring or a contact gap (``effects/connection.py``); ``reference``: a
     realistic parameter set (the golden files, benchmarks); ``opensees``:
-    its OpenSees form (None: none); ``fmu``: the FMU's C code carries it."""
+    its OpenSees form (None: none); ``fmu``: the FMU's C code carries it;
+    ``paper``: one of the paper's nine laws (its protocol, ``demo``)."""
 
     number: int
     name: str
@@ -107,6 +108,7 @@ class Law:
     reference: tuple = ()
     opensees: OpenSeesForm | None = None
     fmu: bool = True
+    paper: bool = True
 
     @property
     def key(self) -> str:

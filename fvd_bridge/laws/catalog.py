@@ -14,7 +14,7 @@ from __future__ import annotations
 from ..errors import InputError
 from . import algebraic, differential
 from . import opensees_forms as ops_form
-from .base import Derived, Law, Parameter
+from .base import Derived, Law, OpenSeesForm, Parameter
 
 
 def _c_lin(s):  # linear damping coefficient reaching up to 3x the peak force
@@ -116,6 +116,9 @@ LAWS = {
            differential.law9, state=("z",), device="hysteretic", reference=(0.2, 0.15, 27.0),
            opensees=ops_form.LAW9),
 }
+#: the paper's nine laws (its protocol: ``demo``, calibrate's default)
+PAPER_LAWS = tuple(law for law in LAWS.values() if law.paper)
+PAPER_SPEC = ",".join(law.key for law in PAPER_LAWS)
 
 
 def get_law(key) -> Law:
