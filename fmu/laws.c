@@ -9,6 +9,7 @@
  *   fvd_bridge/laws/fastmath.py   log1p_ratio, relax, powsign (see below)
  *   fvd_bridge/laws/steps.py      split_travel ... maxwell_force
  *   fvd_bridge/laws/trbdf2.py     law7_constants ... maxwell_solve
+ *   fvd_bridge/laws/oil.py        relief_velocity, oil_solve, oil_step (law 10)
  *   fvd_bridge/laws/scalar.py     law_constants, new_state, advance, force
  *                                 (history's loop body is law_sample + force,
  *                                 effects.c)
@@ -233,12 +234,40 @@ static double maxwell_solve(double r, double ln_c, double p) {
     return x;
 }
 
+/* ------------------------------------------------------------ fvd_bridge/laws/oil.py */
+/* the dashpot velocity v_d [mm/s] at the force F [kN] */
+static double relief_velocity(double F, double C, double Fr, double p) {
+    if (fabs(F) <= Fr) return F / C;
+    return copysign(Fr / C + (fabs(F) - Fr) / (p * C), F);
+}
+
+/* F with F + c v_d(F) = R, c > 0 */
+static double oil_solve(double R, double c, double C, double Fr, double p) {
+    const double F = R / (1.0 + c / C);
+    if (fabs(F) <= Fr) return F;
+    const double pC = p * C;
+    return copysign(Fr + (fabs(R) - Fr * (1.0 + c / C)) * pC / (pC + c), R);
+}
+
+/* the spring force [kN] after a sub-step h [s] from F, the velocity linear from va to vb (TR-BDF2) */
+static double oil_step(double K, double C, double Fr, double p, double F, double va, double vb, double h) {
+    const double g = TRBDF2_GAMMA;
+    const double c_g = 1.0 / (g * (2.0 - g));
+    const double c_0 = (1.0 - g) * (1.0 - g) * c_g;
+    const double c_h = (1.0 - g) / (2.0 - g) * h;
+    const double psi_g = g * h * (va + 0.5 * g * (vb - va));
+    const double psi_h = 0.5 * h * (va + vb);
+    const double c_1 = 0.5 * K * g * h;
+    const double F_g = oil_solve(F + K * psi_g - c_1 * relief_velocity(F, C, Fr, p), c_1, C, Fr, p);
+    return oil_solve(c_g * F_g - c_0 * F + K * (psi_h - c_g * psi_g), K * c_h, C, Fr, p);
+}
+
 /* --------------------------------------------------------- fvd_bridge/laws/scalar.py */
 enum { Z, C_PHI, RHS, ABS_R, LAM, LAM1, LAM2, LN_R, E1, E2, INV_G1, DLAM, DONE };  /* law 7 state */
 enum { LN_C, P, INV_P, LN_K, BETA };  /* law 7 constants */
 #define STEP 3  /* laws 6, 8, 9: first constant of the step (after a, b, C) */
 
-/* k: 6 constants (laws 1-6), 4 (laws 8, 9) or 5 (law 7) */
+/* k: 6 constants (laws 1-6), 4 (laws 8, 9, 10) or 5 (law 7) */
 static void law_constants(int code, const double *p, double h, double *k) {
     double b[6];
     if (code <= 5) {
@@ -250,6 +279,8 @@ static void law_constants(int code, const double *p, double h, double *k) {
         law7_constants(p[0], p[1], p[2], p[3], h, k);
     } else if (code == 8) {
         law8_constants(p[0], p[1], p[2], p[3], k);
+    } else if (code == 10) {
+        k[0] = p[0]; k[1] = p[1]; k[2] = p[2]; k[3] = p[3];
     } else {
         law9_constants(p[0], p[1], p[2], k);
     }
@@ -301,6 +332,8 @@ static void advance(int code, const double *k, double *s, double va, double vb, 
                                         : maxwell_bdf2_rhs(x, s[Z], vb, h);
             maxwell_solve_(k, s, r);
         }
+    } else if (code == 10) {
+        s[Z] = oil_step(k[0], k[1], k[2], k[3], s[Z], va, vb, h);
     } else if (code >= 6) {
         double u[2];
         split_travel(va, vb, h, &u[0], &u[1]);
@@ -318,6 +351,7 @@ static double force(int code, const double *k, const double *s, double d, double
         return algebraic_force(k[0], k[1], k[2], k[3], k[4], k[5], d, sign_v, log_v, sign_d, log_d);
     }
     if (code == 7) return maxwell_force(s[RHS], s[LAM], k[LN_K], k[BETA]);
+    if (code == 10) return s[Z];
     return linear_force(k[0], k[1], k[2], d, s[Z], v);
 }
 
@@ -355,6 +389,12 @@ static const char *law_parameter_problem(int code, const double *p, int *index) 
             break;
         case 9:
             RULE(p[1] >= 0.0, 1, "the inverse saturation travel must be >= 0 1/mm");
+            break;
+        case 10:
+            RULE(p[0] >= 0.0, 0, "the spring stiffness must be >= 0 kN/mm");
+            RULE(p[1] > 0.0, 1, "the damping coefficient must be > 0");
+            RULE(p[2] >= 0.0, 2, "the relief force must be >= 0 kN");
+            RULE(p[3] > 0.0, 3, "the post-relief damping ratio must be > 0");
             break;
         default:
             break;

@@ -6,6 +6,7 @@ import pytest
 
 from fvd_bridge.golden import GOLDEN_DIR, MODEL_SPECS, golden_record, read_golden, reference_params, write_golden
 from fvd_bridge.catalog import parse_model
+from fvd_bridge.laws import LAWS
 
 
 @pytest.mark.parametrize("spec", MODEL_SPECS)
@@ -36,7 +37,7 @@ def test_effects_change_the_golden_force():
 
 def test_generator_writes_the_same_numbers(tmp_path):
     paths = write_golden(tmp_path)
-    assert len(paths) == 9 + len(MODEL_SPECS)
+    assert len(paths) == len(LAWS) + len(MODEL_SPECS)
     for path in paths:
         _, new = read_golden(path)
         _, old = read_golden(GOLDEN_DIR / path.name)

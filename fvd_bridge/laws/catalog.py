@@ -115,6 +115,24 @@ LAWS = {
                       "bristle stiffness")),
            differential.law9, state=("z",), device="hysteretic", reference=(0.2, 0.15, 27.0),
            opensees=ops_form.LAW9),
+    10: Law(10, "bilinear oil damper", "differential",
+            "F = K (d - x_d);  dx_d/dt = F/C (|F| <= Fr),  sign(F) (Fr/C + (|F| - Fr)/(p C)) beyond",
+            "Kasai et al. 2004, Japanese practice (a relief valve opens at Fr); OpenSees BilinearOilDamper",
+            (Parameter("K", "kN/mm", (10.0, 1000.0),
+                       lambda s: (0.1 * s["F"] / s["d"], 1000.0 * s["F"] / s["d"]),
+                       "spring in series with the dashpot (oil column, body)", log=True),
+             Parameter("C", "kN/(mm/s)", (0.1, 100.0),
+                       lambda s: (0.01 * s["F"] / s["v"], 100.0 * s["F"] / s["v"]),
+                       "damping coefficient below the relief force", log=True),
+             Parameter("Fr", "kN", (10.0, 2000.0), lambda s: (0.01 * s["F"], 2.0 * s["F"]), "relief force"),
+             Parameter("p", "-", (0.01, 1.0), lambda s: (1e-3, 1.0),
+                       "post-relief damping ratio (p C beyond the relief force)", log=True)),
+            None, state=("F",), reference=(100.0, 5.0, 300.0, 0.1), connection=False, paper=False,
+            note="its own spring K is the series spring: it takes no series_stiffness or gap; "
+                 "with Fr above the peak force p is not identified.",
+            opensees=OpenSeesForm("BilinearOilDamper K C Fr p",
+                                  lambda s, p: s.mat("BilinearOilDamper", p["K"], p["C"], p["Fr"], p["p"],
+                                                     global_step=True))),
 }
 #: the paper's nine laws (its protocol: ``demo``, calibrate's default)
 PAPER_LAWS = tuple(law for law in LAWS.values() if law.paper)

@@ -16,8 +16,9 @@ Units: kN, mm, s.
 Constants k (``law_constants``) by law code:
   1-5: (C, alpha, K1, K2, K, beta) of the general algebraic law (``steps.algebraic_form``);
   6: (a, b, C, A, beta, gamma) (``steps.bouc_wen_constants``); 8: (a, b, C, k); 9: (a, b, C, alpha);
-  7: (ln c, p, 1/p, ln K, beta) (``trbdf2.law7_constants``).
-State (``new_state``): none for laws 1-5; (z,) for laws 6, 8, 9; for law 7 the
+  7: (ln c, p, 1/p, ln K, beta) (``trbdf2.law7_constants``); 10: (K, C, Fr, p).
+State (``new_state``): none for laws 1-5; (z,) for laws 6, 8, 9; (F,) for law
+10 (its spring force, ``oil.py``); for law 7 the
 rows of a ``differential._maxwell_force`` lane, indexed by the names below.
 """
 
@@ -30,6 +31,7 @@ from numba import njit, prange
 
 from .differential import _sub_velocities
 from .fastmath import FASTMATH, scalar
+from .oil import oil_step
 from .steps import (algebraic_force, algebraic_form, bouc_wen_constants, bouc_wen_step, law6_bouc_wen,
                     law8_constants, law9_constants, linear_force, lugre_step, maxwell_force, sign_log, slip_step,
                     split_travel)
@@ -41,7 +43,7 @@ from .trbdf2 import (LAM_MIN, NEWTON_MAXIT, law7_constants, maxwell_bdf2_rhs, ma
 # agrees bit for bit (called, not inlined, it differs by ~1e-15 of the peak)
 one_member = njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 
-Z = 0  # laws 6-9: the internal variable z (law 7: the spring deformation at the start of the step) [mm]
+Z = 0  # laws 6-9: the internal variable z (law 7: the spring deformation at the start of the step) [mm]; law 10: F [kN]
 # law 7 state: c phi(z) = r - z, and of the last solve: r, |r|, coarse ln|r|, ln|x|, slopes of ln|x|(ln|r|),
 # the last Newton evaluation (e1, e2, 1/(e1 + p e2), step) and whether it converged (1.0) or not (0.0)
 C_PHI, RHS, ABS_R, LAM, LAM1, LAM2, LN_R, E1, E2, INV_G1, DLAM, DONE = range(1, 13)
@@ -62,6 +64,8 @@ def law_constants(code, p, h):
         return np.array(law7_constants(p[0], p[1], p[2], p[3], h))
     if code == 8:
         return np.array(law8_constants(p[0], p[1], p[2], p[3]))
+    if code == 10:
+        return np.array((p[0], p[1], p[2], p[3]))
     return np.array(law9_constants(p[0], p[1], p[2]))
 
 
@@ -125,6 +129,8 @@ def advance(code, k, s, va, vb, h):
                 s[Z], s[C_PHI] = x, s[RHS] - x
             r = maxwell_tr_rhs(s[Z], s[C_PHI], va, vb, h) if stage == 0 else maxwell_bdf2_rhs(x, s[Z], vb, h)
             _maxwell_solve(k, s, r)
+    elif code == 10:
+        s[Z] = oil_step(k[0], k[1], k[2], k[3], s[Z], va, vb, h)
     elif code >= 6:
         for u in split_travel(va, vb, h):
             if u != 0.0:
@@ -142,6 +148,8 @@ def force(code, k, s, d, v):
         return algebraic_force(k[0], k[1], k[2], k[3], k[4], k[5], d, sign_v, log_v, sign_d, log_d)
     if code == 7:
         return maxwell_force(s[RHS], s[LAM], k[LN_K], k[BETA])
+    if code == 10:
+        return s[Z]
     return linear_force(k[0], k[1], k[2], d, s[Z], v)
 
 
