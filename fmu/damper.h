@@ -1,5 +1,5 @@
-/* The damper between two samples: the loop variables of
- * fvd_bridge.effects.scalar.model_history (hand-kept; laws.c and effects.c
+/* The damper between two samples: the state of effects.c's composition
+ * (hand-kept; laws.c and effects.c
  * advance it, model.c keeps it in the FMU's model data).  Units: kN, mm, s.
  */
 #ifndef damper_h

@@ -11,14 +11,12 @@
  *                                     law behind a connection)
  *   fvd_bridge/effects/connection.py  hermite_travel ... series_sample (the
  *                                     series spring and the contact gap)
- *   fvd_bridge/effects/scalar.py      law_sample, model_history (its loop
- *                                     body: model_history_sample, k = 0 at
- *                                     initialization, k > 0 in each
- *                                     fmi3DoStep)
- * (before the split of effects/steps.py, the element and connection step
- * forms lived there).  The effects are flags (EFFECT_NAMES order) and
- * parameters p_eff (PARAMETERS order) of fvd_bridge.effects.scalar, the
- * layout of config.h's EFFECT_ENABLED_VR and EFFECT_PAR_VR.
+ * and composes them with the law in the order of fvd_bridge/effects/compose.py
+ * (the composition, written once in each language: model_history_sample, k
+ * = 0 at initialization, k > 0 in each fmi3DoStep; tested against the Python
+ * model).  The effects are flags (fvd_bridge.effects.catalog.BUILTIN order)
+ * and parameters p_eff (EFFECT_PARAMETERS order), the layout of config.h's
+ * EFFECT_ENABLED_VR and EFFECT_PAR_VR.
  */
 #include <math.h>
 #include <stdbool.h>
@@ -455,9 +453,9 @@ static void series_sample(int code, const double *p, double a, double ks, double
     *F_o = fo;
 }
 
-/* ------------------------------------------------------ fvd_bridge/effects/scalar.py */
-enum { GAP, SERIES, ASYMMETRY, THERMAL, FRICTION, PARALLEL, INERTIA };  /* EFFECT_NAMES */
-enum { G, KS, R, THETA, FF, KP, F0, MASS };  /* PARAMETERS */
+/* ------------------------------------ the composition (fvd_bridge/effects/compose.py) */
+enum { GAP, SERIES, ASYMMETRY, THERMAL, FRICTION, PARALLEL, INERTIA };  /* effects.catalog.BUILTIN */
+enum { G, KS, R, THETA, FF, KP, F0, MASS };  /* effects.catalog.EFFECT_PARAMETERS */
 
 static void law_sample(int code, const double *k, double *s, double v0, double v1, double h, int substeps) {
     for (int j = 0; j < substeps; j++) {
@@ -485,7 +483,7 @@ static bool connection_on(const bool *flags, const double *p_eff) {
     return gap_on(flags, p_eff) || series_on(flags, p_eff);
 }
 
-/* model_history's loop body for sample k (first: k = 0) of law `code` with
+/* the damper's force at sample k (first: k = 0) of law `code` with
  * parameters p_law and the effects (flags, p_eff), the pin's d [mm], v
  * [mm/s], a [mm/s^2] at the sample, dt [s] since the last one; the damper's
  * state m in place; returns F [kN] */

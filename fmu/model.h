@@ -49,7 +49,7 @@ typedef struct {
     bool flag[N_VR];             /* every Boolean variable, by value reference */
     int32_t law;                 /* the law's number (config.h: LAW_IN_FMU) */
     /* the damper between communication points */
-    Damper damper;               /* model_history's loop variables (damper.h) */
+    Damper damper;               /* the composition's state (damper.h) */
     bool on[N_EFFECTS];          /* the effects' switches (EFFECT_NAMES order), set at initialization */
     double p_eff[N_EFFECT_PAR];  /* the effects' parameters (PARAMETERS order), as last checked */
     bool connection;             /* the law is behind a connection (fixed at initialization) */

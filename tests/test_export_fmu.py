@@ -334,7 +334,9 @@ def test_value_references_are_config_h_order():
     """The generated config.h enumerates the generated model description's
     variables in value-reference order; its tables point at each law's and
     effect's parameters."""
-    from fvd_bridge.effects.scalar import EFFECT_NAMES, PARAMETERS
+    from fvd_bridge.effects.catalog import EFFECT_PARAMETERS as PARAMETERS, EFFECTS
+
+    EFFECT_NAMES = tuple(EFFECTS)
 
     text = fmu_interface.config_header()
     variables = generated_variables()
@@ -409,19 +411,21 @@ def test_physics_files_mirror_the_python_step_forms():
     """Every scalar step function of the reference modules has its C twin
     under the same name (a private _name as name_): the laws' in fmu/laws.c,
     the effects' in fmu/effects.c; not mirrored: the population drivers, and
-    the loops over samples history and model_history, whose bodies
-    (law_sample + force, model_history_sample) run once per fmi3DoStep.
+    the loop over samples history, whose body (law_sample + force) runs once
+    per fmi3DoStep.  The composition is written once per language:
+    effects/compose.py in Python, model_history_sample in fmu/effects.c
+    (checked against it by test_fmu_reproduces_python_model).
     model.c, the FMI plumbing, names no law parameter."""
     import importlib
     import importlib.util
 
     from numba.core.registry import CPUDispatcher
 
-    loops = {"history", "model_history", "thermal_population", "series_population", "members"}
+    loops = {"history", "thermal_population", "series_population", "members"}
     mirrors = {"laws.c": ("fvd_bridge.laws.steps", "fvd_bridge.laws.trbdf2", "fvd_bridge.laws.oil",
                           "fvd_bridge.laws.scalar"),
                "effects.c": ("fvd_bridge.effects.steps", "fvd_bridge.effects.element",
-                             "fvd_bridge.effects.connection", "fvd_bridge.effects.scalar")}
+                             "fvd_bridge.effects.connection")}
     for c_file, modules in mirrors.items():
         c_names = set(re.findall(r"^static\s[\w\s*]*?\b(\w+)\(", (FMU_SOURCES / c_file).read_text(), re.M))
         checked = 0

@@ -233,3 +233,5 @@ BUILTIN = (
 EFFECTS = {e.name: e for e in BUILTIN}
 #: the connection's arguments and their 'off' values (a rigid spring, no gap, no effect inside)
 SLOT_OFF = {slot: off for e in BUILTIN for slot, off in zip(e.slots, e.none)}
+#: the built-in effects' parameters in registry order ('effect.param'): the FMU's layout
+EFFECT_PARAMETERS = tuple(n for e in BUILTIN for n in e.names)

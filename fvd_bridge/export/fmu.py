@@ -99,19 +99,18 @@ def start_values(calibration, h_max: float) -> dict:
     the effects' switches, the law's parameters as 'law<N>.<name>', the
     effects' as in the model ('friction.Ff'), h_max [s]."""
     from ..effects.catalog import EFFECTS
-    from ..effects.scalar import EFFECT_NAMES
 
     model = calibration.model
     for e in model.effects:
         if EFFECTS.get(e.name) is not e or not getattr(e, "fmu", True):
             raise InputError(f"model '{model.spec}': effect '{e.name}' ({e.source}) cannot go into the FMU, "
-                             f"which holds the built-in effects only ({', '.join(EFFECT_NAMES)})")
+                             f"which holds the built-in effects only ({', '.join(tuple(EFFECTS))})")
     if not getattr(model.law, "fmu", True):
         raise InputError(f"model '{model.spec}': law {model.law.number} ({model.law.name}) has no C form in "
                          "the FMU (fmu/laws.c)")
     number = model.law.number
     values = {"law": number, "h_max": h_max}
-    values.update({f"{name}.enabled": model.has(name) for name in EFFECT_NAMES})
+    values.update({f"{name}.enabled": model.has(name) for name in tuple(EFFECTS)})
     for name, x in calibration.named().items():
         key = _variable(number, name)
         if not (math.isfinite(x) or (name == "series_stiffness.Ks" and x == math.inf)):

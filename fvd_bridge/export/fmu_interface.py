@@ -12,7 +12,7 @@ Variables, in value-reference order (``variables()``): ``time``; the inputs
 parameters ``law``, ``<effect>.enabled`` (BUILTIN order),
 ``use_velocity_input``, ``use_acceleration_input``; the parameters
 ``h_max``, ``law<N>.<name>`` (law numbers ascending, parameters in the
-law's order), ``<effect>.<name>`` (``effects.scalar.PARAMETERS`` order).
+law's order), ``<effect>.<name>`` (``effects.catalog.EFFECT_PARAMETERS`` order).
 
 ``config_header()`` is ``sources/config.h``: the ``ValueReference`` enum
 and the tables the hand-written C reads instead of naming variables
@@ -81,7 +81,7 @@ def laws() -> dict:
 
 
 def effects() -> tuple:
-    """The built-in effects, in the registry's order (``effects.scalar``'s)."""
+    """The built-in effects, in the registry's order."""
     from ..effects.catalog import BUILTIN
 
     return tuple(BUILTIN)
@@ -249,8 +249,8 @@ def config_header() -> str:
         _c_table("LAW_IN_FMU_VALUES", carried),
         _c_table("LAW_CONNECTION_VALUES", connection),
         "",
-        "/* the built-in effects (fvd_bridge.effects.scalar.EFFECT_NAMES order): their switches, and their",
-        " * parameters in fvd_bridge.effects.scalar.PARAMETERS order with the effect each belongs to */",
+        "/* the built-in effects (fvd_bridge.effects.catalog.BUILTIN order): their switches, and their",
+        " * parameters in fvd_bridge.effects.catalog.EFFECT_PARAMETERS order with the effect each belongs to */",
         f"#define N_EFFECTS {len(the_effects)}",
         f"#define N_EFFECT_PAR {len(effect_par)}",
         _c_table("EFFECT_ENABLED_VR_VALUES", [by_name[f"{e.name}.enabled"].c_name for e in the_effects]),
