@@ -14,8 +14,11 @@ from __future__ import annotations
 import numpy as np
 
 from .calibration import Calibration
+from .campaign.checks import fit_warnings
 from .catalog import catalog
+from .diagnose import climb, diagnose
 from .errors import InputError
+from .fit import fit_model, settings_for
 
 
 def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = "de",
@@ -25,9 +28,6 @@ def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: st
     (seed, device 0, model 0, run)), so both reach the same calibration; the best
     run as a Calibration with the post-fit warnings and the run statistics.
     ``pop``, ``gens``: optimizer settings as `calibrate --pop --gens` (None: defaults)."""
-    from .campaign.checks import fit_warnings
-    from .fit import fit_model, settings_for
-
     m = catalog(plugins).model(model_or_spec) if isinstance(model_or_spec, str) else model_or_spec
     if int(runs) < 1:
         raise InputError(f"runs {runs}: must be at least 1")
@@ -48,8 +48,6 @@ def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: st
 def diagnose_record(record, model_or_spec, seed: int = 0, ladder: bool = False, plugins=(), progress=None):
     """The ``diagnose`` verb: fit, where it fails, the ranked missing effects
     (a Diagnosis); with ``ladder=True`` the ladder (a Ladder)."""
-    from .diagnose import climb, diagnose
-
     cat = catalog(plugins)
     if ladder:
         return climb(record, model_or_spec, seed, progress=progress, catalog=cat)

@@ -35,7 +35,9 @@ import numpy as np
 import yaml
 
 from . import __version__
+from .catalog import catalog as load_catalog
 from .errors import InputError
+from .io.staging import atomic_file
 
 SCHEMA_VERSION = 2
 READABLE_SCHEMAS = (1, 2)
@@ -113,8 +115,6 @@ class Calibration:
 
     def save(self, path: str) -> str:
         """Write the file atomically (a temporary file renamed into place); returns ``path``."""
-        from .io.staging import atomic_file
-
         with atomic_file(path) as fh:
             yaml.safe_dump(self.to_dict(), fh, sort_keys=False, width=100)
         return path
@@ -131,8 +131,6 @@ class Calibration:
                              f"(supported: {', '.join(map(str, READABLE_SCHEMAS))})")
         settings = data.get("settings") or {}
         if catalog is None:
-            from .catalog import catalog as load_catalog
-
             catalog = load_catalog(tuple(settings.get("plugins") or ()))
         try:
             model = catalog.model(data.get("model", ""))

@@ -14,6 +14,7 @@ import os
 
 from .effects.base import Effect
 from .effects.catalog import EFFECTS
+from .effects.plugins import load_plugins
 from .errors import InputError
 from .laws import LAWS, get_law
 from .model import Model
@@ -53,8 +54,6 @@ class Catalog:
 def _cached(paths: tuple) -> Catalog:
     if not paths:
         return Catalog()
-    from .effects.plugins import load_plugins
-
     return Catalog(load_plugins(list(paths)), paths)
 
 

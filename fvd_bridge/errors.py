@@ -1,5 +1,7 @@
 """The one exception a user can cause: bad input, reported in one line."""
 
+import math
+
 
 class InputError(Exception):
     """Bad user input; the message names the file, row, column or parameter.
@@ -10,8 +12,6 @@ class InputError(Exception):
 
 def positive(what: str, value) -> float:
     """``value`` as a finite float > 0, else an InputError naming ``what``."""
-    import math
-
     try:
         x = float(value)
     except (TypeError, ValueError):

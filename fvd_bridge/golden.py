@@ -23,8 +23,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .catalog import parse_model
 from .effects.catalog import BUILTIN
 from .laws import LAWS
+from .records import Record
 
 DT = 0.001  # [s]
 DURATION = 2.0  # [s]
@@ -111,8 +113,6 @@ def read_golden(path) -> tuple[dict, dict]:
 
 def golden_record(columns: dict):
     """The golden input as a Record (F = 0; a = 0 in a law file, which has none)."""
-    from .records import Record
-
     t = columns["t"]
     return Record(t, columns["d"], np.zeros_like(t), columns["v"], columns.get("a", np.zeros_like(t)),
                   name="golden")
@@ -120,8 +120,6 @@ def golden_record(columns: dict):
 
 def write_golden(directory=GOLDEN_DIR) -> list[Path]:
     """Write law<SPEC>.csv for every law and the MODEL_SPECS into ``directory``."""
-    from .catalog import parse_model
-
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     t, d, v, a = (_as_written(x, FORMATS[c]) for x, c in zip(reference_input(), "tdva"))

@@ -18,6 +18,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..records import Record
+from ..rig import paper, trace
 
 KEYS = ("velocity", "nominal_force", "tolerance", "amplitude", "cycles")
 
@@ -63,9 +65,6 @@ class Acceptance:
 
 def design_motion(acc: Acceptance, amplitude: float, dt: float):
     """The acceptance sinusoid as a noise-free Record (F = 0): t [s], d [mm], v [mm/s], a."""
-    from ..records import Record
-    from ..rig import paper
-
     proto = paper(amplitude=amplitude, velocity=acc.velocity, cycles=acc.cycles, dt=dt)
     t = proto.times()
     d, v, a = proto.motion(t)
@@ -93,8 +92,6 @@ def evaluate(summary: dict, records, cs, acc: Acceptance, nominal_device=None) -
     Returns {"settings", "nominal_force", "nominal_source", "amplitude", "dt",
     "models": {spec: {"F": (n_dev, 2) [kN], "deviation": (n_dev,), "passed": (n_dev,) bool}}}.
     """
-    from ..rig import paper, trace
-
     amplitude = acc.amplitude or float(np.median([r.scales()["d"] for r in records]))
     dt = float(np.median([r.dt for r in records]))
     motion = design_motion(acc, amplitude, dt)

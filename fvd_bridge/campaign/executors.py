@@ -9,9 +9,12 @@ or a scheduler's address); ``resume.Resumable`` wraps any of them.
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
+
+from ..errors import InputError
 
 
 class Serial:
@@ -23,7 +26,7 @@ class Serial:
 
 
 def _init_worker():
-    import numba
+    import numba  # lazily: only a worker sets numba's threads; importing executors stays numba-free
 
     numba.set_num_threads(1)  # the processes already use every core
 
@@ -52,7 +55,7 @@ class Processes:
 def _one_thread(fn, *args):
     """Call ``fn(*args)`` with numba kernels on one thread (a Dask worker thread
     is one of many on the machine, like a Processes worker)."""
-    import numba
+    import numba  # lazily: on the Dask worker, like _init_worker
 
     numba.set_num_threads(1)
     return fn(*args)
@@ -74,11 +77,7 @@ class Dask:
 
     def client(self):
         """A connected distributed.Client (and the LocalCluster it owns, if any)."""
-        import logging
-
-        from distributed import Client, LocalCluster
-
-        from ..errors import InputError
+        from distributed import Client, LocalCluster  # lazily: dask only (about 0.6 s to import)
 
         if self.scheduler:
             try:
@@ -90,7 +89,7 @@ class Dask:
         return Client(cluster)
 
     def run(self, fn, items):
-        from distributed import as_completed
+        from distributed import as_completed  # lazily: dask only
 
         items = list(items)
         if not items:

@@ -149,7 +149,7 @@ def _summary_json(records, results, summary, cs) -> dict:
 
 
 def _figures(stage, records, summary, cs):
-    from ..plots import campaign as plots
+    from ..plots import campaign as plots  # lazily: matplotlib (about 1 s), not needed with --no-figures
 
     fig_dir = os.path.join(stage, "figures")
     os.makedirs(fig_dir, exist_ok=True)

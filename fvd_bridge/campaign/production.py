@@ -148,7 +148,7 @@ def format_production(prod: dict, accept: dict | None, shown: int = 8) -> str:
 
 
 def _figures(stage, prod, accept):
-    from ..plots import campaign as plots
+    from ..plots import campaign as plots  # lazily: matplotlib (about 1 s), not needed with --no-figures
 
     fig_dir = os.path.join(stage, "figures")
     os.makedirs(fig_dir, exist_ok=True)

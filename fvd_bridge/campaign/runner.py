@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 from tqdm import tqdm
 
+from ..catalog import catalog as load_catalog
 from ..fit import settings_for
 from .executors import Processes
 from .tasks import make_tasks, run_task
@@ -30,9 +31,7 @@ class CampaignSettings:
     @property
     def catalog(self):
         """Laws and effects with this campaign's plugins (loaded once per process)."""
-        from ..catalog import catalog
-
-        return catalog(self.plugins)
+        return load_catalog(self.plugins)
 
     def model(self, spec: str):
         """The Model of one of the campaign's specs."""

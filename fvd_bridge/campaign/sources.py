@@ -20,6 +20,7 @@ import json
 import os
 
 from ..errors import InputError
+from ..rig import PARAMETERS, TRUTH_FILE, Device, Noise, from_spec, production_series, read_truth, write_series
 
 RIG_KEYS = ("devices", "nominal", "scatter", "protocol", "noise", "seed")
 PROTOCOL_KEYS = ("name", "amplitude", "velocity", "cycles", "dt")
@@ -46,8 +47,6 @@ def expand_records(patterns, base: str, where: str) -> list[str]:
 def rig_spec(spec, where: str) -> dict:
     """The rig block checked and completed with defaults (plain data: the
     campaign's fingerprint covers it)."""
-    from ..rig import PARAMETERS, Device
-
     if not isinstance(spec, dict):
         raise InputError(f"{where}: key 'rig': expected a mapping ({', '.join(RIG_KEYS)})")
     unknown = [k for k in spec if k not in RIG_KEYS]
@@ -87,8 +86,6 @@ def _whole(value, key: str, where: str, low: int) -> int:
 
 def _build(spec: dict, where: str):
     """(devices, protocol, noise) of a checked rig block."""
-    from ..rig import Device, Noise, from_spec, production_series
-
     proto = dict(spec["protocol"])
     name = proto.pop("name")
     try:
@@ -104,16 +101,12 @@ def _build(spec: dict, where: str):
 
 def rig_nominal(spec: dict):
     """The nominal Device of a checked rig block."""
-    from ..rig import Device
-
     return Device(**spec["nominal"])
 
 
 def rig_records(spec: dict, out: str, where: str) -> list[str]:
     """Paths of the series' records in OUT/records, simulated and written (all
     or nothing) unless that directory already holds this very series."""
-    from ..rig import TRUTH_FILE, read_truth, write_series
-
     folder = os.path.join(out, RECORDS_DIR)
     plain = json.loads(json.dumps(spec))
     truth = os.path.join(folder, TRUTH_FILE)

@@ -28,6 +28,11 @@ import uuid
 
 import numpy as np
 
+try:
+    import fcntl
+except ImportError:  # no flock (Windows): no protection against two runs at once
+    fcntl = None
+
 from ..errors import InputError
 from ..fit import FitResult
 
@@ -189,9 +194,7 @@ class UnitStore:
         return fingerprint
 
     def _take_lock(self):
-        try:
-            import fcntl
-        except ImportError:  # no flock (Windows): no protection against two runs at once
+        if fcntl is None:  # no flock (Windows): no protection against two runs at once
             return
         fh = open(os.path.join(self.root, "lock"), "a+")
         try:

@@ -5,12 +5,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+import yaml
+
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..campaign.runner import CampaignSettings, run_campaign
+from ..catalog import catalog as load_catalog
 from ..errors import InputError
 from ..fit import OPTIMIZERS, settings_for
-from ..laws import BOUND_MODES
+from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
 from .common import add_record_options, read_records
 
 
@@ -27,8 +30,9 @@ def add_parser(sub):
 
 
 def add_campaign_options(p):
-    p.add_argument("--laws", default="1-9",
-                   help="laws or model specs: '1-9', '2,6,9' or '2+friction,9' (default 1-9)")
+    p.add_argument("--laws", default=PAPER_SPEC,
+                   help=f"laws or model specs: '1-{max(LAWS)}', '2,6,9' or '2+friction,9' (default: the "
+                        f"paper's nine, {PAPER_SPEC})")
     p.add_argument("--runs", type=int, default=20, help="independent runs per device and law (default 20)")
     p.add_argument("--out", help="output directory (required, here or in --config)")
     p.add_argument("--config", help="YAML file with any of these options as keys (laws, runs, out, bounds, "
@@ -54,8 +58,6 @@ def add_campaign_options(p):
 
 def parse_specs(text: str, catalog) -> tuple:
     """'1-9' / '2,6,9' / '2+friction,9' -> model specs (validated)."""
-    from ..laws import parse_law_list
-
     specs = []
     for part in text.split(","):
         part = part.strip()
@@ -113,8 +115,6 @@ def apply_config(args) -> None:
     """Fill options left at their defaults from the --config YAML file, each
     value checked as the command line checks it."""
     if args.config:
-        import yaml
-
         try:
             with open(args.config) as fh:
                 cfg = yaml.safe_load(fh) or {}
@@ -138,9 +138,7 @@ def apply_config(args) -> None:
 
 
 def campaign_settings(args) -> CampaignSettings:
-    from ..catalog import catalog
-
-    cat = catalog(args.plugin)
+    cat = load_catalog(args.plugin)
     for name in ("runs", "pop", "gens", "stall"):
         value = getattr(args, name)
         if value is not None and value < 1:

@@ -24,10 +24,24 @@ refused with one line naming the file and the key.
 from __future__ import annotations
 
 import argparse
+import glob
 import hashlib
 import os
+import shutil
 import sys
 
+import yaml
+
+from ..campaign import acceptance, production
+from ..campaign.acceptance import Acceptance
+from ..campaign.executors import Dask, Processes
+from ..campaign.outputs import write_outputs
+from ..campaign.report import format_report, format_series
+from ..campaign.resume import Resumable
+from ..campaign.runner import run_campaign
+from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spec
+from ..campaign.stats import OUTLIER_K
+from ..campaign.store import UnitStore
 from ..errors import InputError
 from .calibrate import campaign_settings, option_parser, parse_option, unique_names
 from .common import read_records
@@ -60,8 +74,6 @@ def add_parser(sub):
 # ------------------------------------------------------------------ the campaign file
 def read_campaign_file(path: str) -> tuple[dict, argparse.Namespace]:
     """(campaign-only keys, calibrate's options as a Namespace) of a campaign file."""
-    import yaml
-
     try:
         with open(path) as fh:
             data = yaml.safe_load(fh) or {}
@@ -103,10 +115,6 @@ def _file_sha256(path: str) -> str:
 def plan(path: str) -> dict:
     """Everything a campaign file says, checked before any work: settings, sources,
     out, executor, acceptance, outlier k, the effective settings of the fingerprint."""
-    from ..campaign.acceptance import Acceptance
-    from ..campaign.sources import rig_spec
-    from ..campaign.stats import OUTLIER_K
-
     own, args = read_campaign_file(path)
     base = os.path.dirname(os.path.abspath(path))
     if not args.out:
@@ -144,8 +152,6 @@ def plan(path: str) -> dict:
 
 def load_records(p: dict, path: str):
     """The campaign's records, in order, with unique names (a rig series is simulated once into OUT/records)."""
-    from ..campaign.sources import expand_records, rig_records
-
     if p["rig"] is not None:
         paths = rig_records(p["rig"], p["out"], path)
     else:
@@ -155,8 +161,6 @@ def load_records(p: dict, path: str):
 
 def make_executor(p: dict, args):
     """The executor the campaign file and the command line ask for."""
-    from ..campaign.executors import Dask, Processes
-
     scheduler = args.scheduler or p["scheduler"]
     kind = args.executor or ("dask" if args.scheduler else p["executor"])
     if scheduler and kind != "dask":
@@ -172,9 +176,6 @@ def make_executor(p: dict, args):
 
 def _remove_stale_staging(out: str) -> None:
     """Staging directories of OUT's outputs that a killed run left (the store's lock is held)."""
-    import glob
-    import shutil
-
     out = os.path.abspath(out)
     for stage in glob.glob(os.path.join(os.path.dirname(out), f".{glob.escape(os.path.basename(out))}.partial-*")):
         shutil.rmtree(stage, ignore_errors=True)
@@ -182,13 +183,6 @@ def _remove_stale_staging(out: str) -> None:
 
 # ------------------------------------------------------------------------- the verb
 def run(args) -> int:
-    from ..campaign import acceptance, production
-    from ..campaign.outputs import write_outputs
-    from ..campaign.report import format_report, format_series
-    from ..campaign.resume import Resumable
-    from ..campaign.runner import run_campaign
-    from ..campaign.store import UnitStore
-
     p = plan(args.campaign)
     cs = p["cs"]
     store = UnitStore(p["out"], source=args.campaign)
@@ -215,8 +209,6 @@ def run(args) -> int:
             made["prod"] = production.analyse(summary, cs, p["k"])
             nominal = None
             if p["rig"] is not None:
-                from ..campaign.sources import rig_nominal
-
                 nominal = rig_nominal(p["rig"])
             made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
             production.write(stage, made["prod"], made["accept"], figures)

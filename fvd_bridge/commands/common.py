@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 from ..records import ReadOptions, parse_mapping, read_record
 
@@ -36,8 +37,6 @@ def quiet_opensees() -> None:
     """Send OpenSees' console output (banners, per-step convergence warnings)
     to nowhere for the rest of this process: the analyses report their own
     solver trouble (FrameResult.solver, the export check's OF)."""
-    import os
-
     import openseespy.opensees as ops
 
     ops.logFile(os.devnull, "-noEcho")

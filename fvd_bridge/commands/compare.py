@@ -7,7 +7,12 @@ import os
 
 import numpy as np
 
+from ..calibration import Calibration
 from ..errors import InputError
+from ..fit import objective
+from ..io.staging import safe_name, staged_dir, write_json
+from ..records import Record
+from ..rig.protocols import read_history
 from .common import add_record_options, read_records
 
 #: a record whose peak force or stroke is this many times the calibration
@@ -49,9 +54,6 @@ def _window(text: str, record):
 
 def _read(path: str, args):
     """The record, or a t,d history (force 0, prediction only): (record, has_force)."""
-    from ..records import Record
-    from ..rig.protocols import read_history
-
     try:
         return read_records([path], args)[0], True
     except InputError as exc:  # only a file without a force column is a history
@@ -80,9 +82,7 @@ def _check_units(cal, record, path: str) -> None:
 
 
 def run(args) -> int:
-    from ..calibration import Calibration
     from ..diagnose.where import analyse, summary_lines
-    from ..fit import objective
 
     if len(args.files) < 2:
         raise InputError("compare needs at least one PARAMS.yaml and a RECORD")
@@ -135,8 +135,6 @@ def run(args) -> int:
 
 
 def _write(args, record, rows, report, has_force) -> list:
-    from ..io.staging import safe_name, staged_dir, write_json
-
     base = safe_name(record.name)
     written = [f"{base}_compare.json"]
     with staged_dir(args.out) as stage:

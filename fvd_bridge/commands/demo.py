@@ -18,7 +18,9 @@ from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..campaign.runner import CampaignSettings, run_campaign
 from ..fit import OPTIMIZERS
+from ..laws import PAPER_LAWS
 from ..records import read_record
+from ..rig import DEMO_NOISE, Noise, demo_series, paper, write_series
 
 QUICK = {"pop": 8, "gens": 60}
 
@@ -40,15 +42,13 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..rig import DEMO_NOISE, Noise, demo_series, paper, write_series
-
     start = time.perf_counter()
     rec_dir = os.path.join(args.out, "records")
     devices = demo_series(seed=args.seed)
     paths = write_series(rec_dir, devices, paper(), Noise(**DEMO_NOISE), seed=args.seed)[:-1]
     records = [read_record(p) for p in paths]
     quick = args.quick
-    cs = CampaignSettings(specs=tuple(str(k) for k in range(1, 10)),
+    cs = CampaignSettings(specs=tuple(law.key for law in PAPER_LAWS),
                           runs=args.runs or 20, optimizer=args.optimizer,
                           seed=args.seed, pop=QUICK["pop"] if quick else None,
                           gens=QUICK["gens"] if quick else None, jobs=args.jobs)
@@ -56,7 +56,7 @@ def run(args) -> int:
             "without --quick runs the full settings)" if quick
             else "full settings (20 runs, default optimizer settings)")
     print(f"demo: {len(records)} virtual devices, paper protocol (10 cycles, 40 mm, 0.5 m/s), records in "
-          f"{rec_dir}/; 9 laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
+          f"{rec_dir}/; {len(cs.specs)} laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
           file=sys.stderr)
     results = run_campaign(records, cs)
     summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures)

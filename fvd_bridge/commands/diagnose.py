@@ -6,7 +6,9 @@ import json
 import os
 import sys
 
+from ..catalog import catalog
 from ..errors import InputError
+from ..io.staging import safe_name, staged_dir
 from .common import add_record_options, read_records
 
 
@@ -19,7 +21,7 @@ def add_parser(sub):
                     "repeats while it helps beyond noise.")
     p.add_argument("record", metavar="RECORD", help="CSV or .mat test record")
     p.add_argument("--law", required=True, metavar="SPEC",
-                   help="model to diagnose: a law 1-9, optionally with effects, e.g. 2 or 2+friction")
+                   help="model to diagnose: a law (see `fvd-bridge laws`), optionally with effects, e.g. 2 or 2+friction")
     p.add_argument("--ladder", action="store_true",
                    help="add the best effect, refit, repeat while it helps beyond noise; print the ladder")
     p.add_argument("--max-rungs", type=int, metavar="N", help="with --ladder: add at most N effects")
@@ -41,7 +43,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..catalog import catalog
     from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
 
     for name in ("pop", "gens", "max_rungs"):
@@ -86,8 +87,6 @@ def run(args) -> int:
 
 def _write(args, record, diag, lad, report) -> list[str]:
     """Figures and the JSON report, all or nothing (a staging directory)."""
-    from ..io.staging import safe_name, staged_dir
-
     base = safe_name(record.name)
     written = []
     with staged_dir(args.out) as stage:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 
+from ..catalog import catalog
 from ..effects.compose import ordered
 from ..errors import InputError
 
@@ -26,8 +27,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..catalog import catalog
-
     if args.gap_figure:  # before any output: a bad path is one line, exit 2
         folder = os.path.dirname(os.path.abspath(args.gap_figure))
         if not os.path.isdir(folder):

@@ -5,8 +5,14 @@ from __future__ import annotations
 import os
 import sys
 
+import numpy as np
+
+from ..calibration import Calibration
 from ..errors import InputError
-from .common import add_record_options, read_records
+from ..fit import objective
+from ..golden import golden_record, reference_input
+from ..io.staging import atomic_file
+from .common import add_record_options, quiet_opensees, read_records
 
 
 def add_parser(sub):
@@ -49,7 +55,6 @@ def add_parser(sub):
 
 
 def run_opensees(args) -> int:
-    from ..calibration import Calibration
     from ..export.opensees import opensees_export, to_script
 
     if args.tag < 1:
@@ -67,8 +72,6 @@ def run_opensees(args) -> int:
     if record is not None and _check(cal, export, record, args):
         return 1  # the export failed its check: no script written
     if args.output:
-        from ..io.staging import atomic_file
-
         with atomic_file(args.output) as fh:
             fh.write(script)
         print(f"wrote {args.output}: model {cal.spec}, damper material {export.tag} "
@@ -85,10 +88,7 @@ def _check(cal, export, record, args) -> int:
     the record's velocity (trapezoidal rule, from 0 where OpenSees materials
     start), so that displacement noise, which the derived velocity has
     smoothed away, reaches neither."""
-    import numpy as np
-
     from ..export.opensees_check import check
-    from .common import quiet_opensees
 
     quiet_opensees()
     d = np.concatenate([[0.0], np.cumsum(0.5 * (record.v[1:] + record.v[:-1]) * np.diff(record.t))])
@@ -109,8 +109,6 @@ def _check(cal, export, record, args) -> int:
 
 def _fmu_check_record(cal, args):
     """The record the FMU is checked on: --check, the calibration record, or the golden input."""
-    from ..golden import golden_record, reference_input
-
     path = args.check or (cal.record or {}).get("file")
     if path and (args.check or os.path.isfile(path)):
         return read_records([path], args)[0]
@@ -120,9 +118,7 @@ def _fmu_check_record(cal, args):
 
 def run_fmu(args) -> int:
     """Build, validate and check the FMU; nothing is left at -o when a step fails."""
-    from ..calibration import Calibration
     from ..export.fmu import OF_BOUND, build_fmu, fmu_forces
-    from ..fit import objective
 
     if not args.output.lower().endswith(".fmu"):
         raise InputError(f"-o {args.output}: the file name must end in .fmu")

@@ -6,7 +6,11 @@ import glob
 import os
 import sys
 
+from ..calibration import Calibration
+from ..catalog import catalog
 from ..errors import InputError
+from ..records.motions import read_motion
+from .common import quiet_opensees
 
 BUILDINGS = ("3-story", "9-story")
 
@@ -58,9 +62,7 @@ def calibration_files(paths) -> list[str]:
 
 def load_inputs(args):
     """Calibrations, building and ground motion, all checked before any analysis."""
-    from ..calibration import Calibration
     from ..frames import buildings
-    from ..records.motions import read_motion
 
     for name in ("scale_pga", "duration", "stroke_limit", "force_limit"):
         value = getattr(args, name)
@@ -68,8 +70,6 @@ def load_inputs(args):
             raise InputError(f"--{name.replace('_', '-')} {value}: must be > 0")
     cals = [Calibration.load(f) for f in calibration_files(args.params)]
     if args.laws:
-        from ..catalog import catalog
-
         wanted = {catalog().model(s.strip()).spec for s in args.laws.split(",")}
         cals = [c for c in cals if c.spec in wanted]
         if not cals:
@@ -86,8 +86,6 @@ def load_inputs(args):
 def run(args) -> int:
     from ..frames.compare import run_cases
     from ..frames.outputs import format_frame_table, write_frame_outputs
-
-    from .common import quiet_opensees
 
     cals, building, motion = load_inputs(args)
     quiet_opensees()

@@ -25,7 +25,7 @@ def add_parser(sub):
 def run(args) -> int:
     opts = read_options(args)
     if args.plot:
-        from ..plots.record import check_target
+        from ..plots.record import check_target, plot_record
 
         check_target(args.plot)  # before any output: a bad path is one line, exit 2
     with warnings.catch_warnings():
@@ -33,8 +33,6 @@ def run(args) -> int:
         rec = read_record(args.record, opts)
     print(format_summary(summarize(rec)))
     if args.plot:
-        from ..plots.record import plot_record
-
         plot_record(rec, args.plot)
         print(f"figure       {args.plot}")
     return 0

@@ -29,6 +29,7 @@ nested in the one with one more effect.  Within a stage effects apply in increas
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from ..errors import InputError
@@ -147,14 +148,10 @@ class _single_thread:
     """Run numba kernels on one thread inside the block."""
 
     def __enter__(self):
-        import numba
-
         self.threads = numba.get_num_threads()
         numba.set_num_threads(1)
 
     def __exit__(self, *exc):
-        import numba
-
         numba.set_num_threads(self.threads)
         return False
 

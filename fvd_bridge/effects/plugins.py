@@ -22,6 +22,7 @@ import sys
 import numpy as np
 
 from ..errors import InputError
+from ..records.record import Record
 from .base import STAGES, Effect
 from .catalog import EFFECTS as BUILTIN
 from .catalog import SLOT_OFF
@@ -60,8 +61,6 @@ def load_module(path: str):
 
 def _probe_record():
     """A 2-cycle, 1 Hz sinusoid of 20 mm with a viscous 100 kN force (for checks)."""
-    from ..records.record import Record
-
     t = np.arange(201) * 0.01
     w = 2.0 * math.pi
     d, v, a = 20.0 * np.sin(w * t), 20.0 * w * np.cos(w * t), -20.0 * w * w * np.sin(w * t)

@@ -31,6 +31,7 @@ import math
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import uuid
 import xml.etree.ElementTree as ET
@@ -38,10 +39,16 @@ import zipfile
 from datetime import datetime, timezone
 from pathlib import Path
 
+import fmpy
 import numpy as np
+from fmpy import read_model_description, simulate_fmu
+from fmpy.build import build_platform_binary
+from fmpy.validation import validate_fmu
 
 from .. import __version__
+from ..effects.catalog import EFFECTS
 from ..errors import InputError, positive
+from ..fit.objective import objective
 from . import fmu_interface
 from .fmu_interface import MODEL_IDENTIFIER
 
@@ -98,8 +105,6 @@ def start_values(calibration, h_max: float) -> dict:
     """{FMU variable name: start value} of a calibration: the law's number,
     the effects' switches, the law's parameters as 'law<N>.<name>', the
     effects' as in the model ('friction.Ff'), h_max [s]."""
-    from ..effects.catalog import EFFECTS
-
     model = calibration.model
     for e in model.effects:
         if EFFECTS.get(e.name) is not e or not getattr(e, "fmu", True):
@@ -182,9 +187,6 @@ def fmu_forces(fmu_path, calibration, record, inputs=("d",)) -> tuple[np.ndarray
     ('dv') or d, v and a ('dva'), each sample sent before the step that ends
     there.  The file is checked by ``fmpy.validate_fmu`` once: a file it finds
     problems in is an InputError."""
-    from fmpy import read_model_description
-    from fmpy.validation import validate_fmu
-
     fmu_path = os.fspath(fmu_path)
     problems = validate_fmu(fmu_path)
     if problems:
@@ -199,8 +201,6 @@ def fmu_forces(fmu_path, calibration, record, inputs=("d",)) -> tuple[np.ndarray
 def validate(fmu_path, calibration, record, inputs: str = "d") -> float:
     """OF (paper eq. 18) of the FMU's force against the Python model's on the
     record (``fmu_forces``); the caller compares it with OF_BOUND."""
-    from ..fit.objective import objective
-
     F_model, F_fmu = fmu_forces(fmu_path, calibration, record, (inputs,))
     return float(objective(F_model, F_fmu[inputs], record.t))
 
@@ -211,8 +211,6 @@ def simulate(fmu_path, record, inputs: str = "d", outputs=("F", "z", "E")) -> di
     record sent before the step that ends there); ``inputs`` 'd', 'dv' or
     'dva' sets use_velocity_input and use_acceleration_input (the FMU
     ignores the inputs it does not use)."""
-    from fmpy import simulate_fmu
-
     if inputs not in INPUTS:
         raise InputError(f"inputs '{inputs}': expected one of {', '.join(INPUTS)}")
     t = np.asarray(record.t, dtype=float)
@@ -330,8 +328,6 @@ def _c_list(name: str, items: list) -> str:
 
 def _compile(unzipdir: Path, build_dir: Path) -> None:
     """The platform binary by FMPy's CMake project, quietly (its log shown on failure)."""
-    from fmpy.build import build_platform_binary
-
     if shutil.which("cmake") is None:
         raise InputError("building an FMU needs cmake and a C compiler (Debian: apt-get install cmake gcc)")
     build_dir.mkdir()
@@ -348,14 +344,10 @@ def _compile(unzipdir: Path, build_dir: Path) -> None:
 
 
 def _platform_tuple() -> str:
-    import fmpy
-
     return fmpy.platform_tuple
 
 
 def _library_suffix() -> str:
-    import fmpy
-
     return fmpy.sharedLibraryExtension
 
 
@@ -363,8 +355,6 @@ def _library_suffix() -> str:
 def _output_to(path: Path):
     """Send this process's stdout and stderr (file descriptors 1, 2: cmake's
     and the compiler's output) to ``path`` inside the block."""
-    import sys
-
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
     saved = [os.dup(1), os.dup(2)]

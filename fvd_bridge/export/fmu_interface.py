@@ -30,6 +30,9 @@ import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 
+from ..effects.catalog import BUILTIN, KS_RIGID
+from ..laws import LAWS
+
 MODEL_IDENTIFIER = "fvd_damper"
 
 #: FMI units of the registry's unit strings (SI base units, factor to SI); a
@@ -75,15 +78,11 @@ class Variable:
 # ------------------------------------------------------------------ registry
 def laws() -> dict:
     """{number: Law} of the registry, numbers ascending."""
-    from ..laws import LAWS
-
     return dict(sorted(LAWS.items()))
 
 
 def effects() -> tuple:
     """The built-in effects, in the registry's order."""
-    from ..effects.catalog import BUILTIN
-
     return tuple(BUILTIN)
 
 
@@ -93,20 +92,14 @@ def law_parameter_name(number: int, name: str) -> str:
 
 
 def _carried(entry) -> bool:
-    """Whether the FMU's C code carries a law or an effect (its ``fmu`` capability; default yes)."""
-    return bool(getattr(entry, "fmu", True))
+    """Whether the FMU's C code carries a law or an effect (its ``fmu`` capability)."""
+    return bool(entry.fmu)
 
 
 def _law_reference(number: int, law) -> tuple:
     """Default start values of a law's parameters: its reference values (the
     golden files'), else the middle of its paper bounds."""
-    ref = tuple(getattr(law, "reference", ()) or ())
-    if len(ref) != len(law.parameters):
-        try:
-            from ..golden import REFERENCE
-            ref = tuple(REFERENCE.get(number, ()))
-        except ImportError:  # pragma: no cover - the golden module is optional here
-            ref = ()
+    ref = tuple(law.reference)
     if len(ref) != len(law.parameters):
         ref = tuple(0.5 * (p.paper[0] + p.paper[1]) for p in law.parameters)
     return tuple(float(x) for x in ref)
@@ -115,10 +108,7 @@ def _law_reference(number: int, law) -> tuple:
 def _effect_off(x: float) -> float:
     """Default start value of an effect parameter: its 'off' value; an
     infinite one (a rigid series spring) as the catalog's rigid stiffness."""
-    if math.isfinite(x):
-        return float(x)
-    from ..effects.catalog import KS_RIGID
-    return float(KS_RIGID)
+    return float(x) if math.isfinite(x) else float(KS_RIGID)
 
 
 def _unit(unit: str) -> str | None:

@@ -18,7 +18,7 @@ from ..records.record import Record
 from .opensees import apply, listed, opensees_export
 
 def _ops():
-    import openseespy.opensees as ops
+    import openseespy.opensees as ops  # lazily: OpenSees loads a native library on import
 
     return ops
 

@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from ..errors import InputError
-from .de import DESettings, run_de
+from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
 from .objective import objective
 from .result import FitResult
@@ -64,8 +64,6 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
-            from .de import polish
-
             count = [evals]
             x, of = polish(evaluate, x, of, 4000, count)
             evals = count[0]
@@ -99,8 +97,6 @@ def polish_model(model, record, start: np.ndarray, mask: np.ndarray | None = Non
     """Nelder-Mead from ``start`` (parameters) inside the model's bounds,
     minimising the OF (of the ``mask``ed samples): (parameters, OF), never
     worse than ``start``'s."""
-    from .de import polish
-
     _, b, space, evaluate = _problem(model, record, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     of0 = evaluate_params(model, record, start, mask)

@@ -6,6 +6,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from .space import Space
+
 
 @dataclass
 class FitResult:
@@ -41,8 +43,6 @@ class FitResult:
         """Parameters within ``tol`` of a bound in the search space (log-scaled ones
         judged on their log scale): [(name, 'lower'|'upper')].  A lower bound of 0
         and an effect's 'off' value are natural ends, not starvation."""
-        from .space import Space
-
         x = Space.of(self.bounds, self.log or None).to_unit(np.asarray(self.params))
         off = self.off or [None] * len(self.names)
         out = []

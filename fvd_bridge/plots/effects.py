@@ -10,16 +10,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ..catalog import parse_model  # noqa: E402
+from ..golden import REFERENCE  # noqa: E402
+from ..records import Record  # noqa: E402
 from .save import save  # noqa: E402
 
 
 def gap_loops(g: float = 2.0, amp: float = 40.0, freq: float = 0.5, dt: float = 0.002, cycles: float = 2.0):
     """(t [s], d [mm], F without gap, F with a contact gap g [mm]) [kN] of law 9
     (the golden reference parameters) under d = amp sin(2 pi freq t)."""
-    from ..golden import REFERENCE
-    from ..catalog import parse_model
-    from ..records import Record
-
     t = np.arange(int(round(cycles / freq / dt)) + 1) * dt
     w = 2 * np.pi * freq
     d, v, a = amp * np.sin(w * t), amp * w * np.cos(w * t), -amp * w * w * np.sin(w * t)

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import os
 
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
 from ..errors import InputError
 from ..records.record import Record
 
@@ -11,9 +14,6 @@ from ..records.record import Record
 def check_target(path: str) -> str:
     """Refuse an image path whose folder is missing or whose format matplotlib
     cannot write; returns the format (the extension, png when there is none)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     fmt = os.path.splitext(path)[1].lstrip(".").lower() or "png"
     known = FigureCanvasAgg(Figure()).get_supported_filetypes()
     if fmt not in known:
@@ -31,9 +31,6 @@ def plot_record(rec: Record, path: str, title: str | None = None) -> str:
     figure goes to PATH.<pid>.part in the same folder, then is renamed.
     Returns ``path``.
     """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     fmt = check_target(path)
     fig = Figure(figsize=(10, 7), layout="constrained")
     FigureCanvasAgg(fig)

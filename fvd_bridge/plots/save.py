@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import os
 
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
 
 def save(fig, path: str, dpi: int = 110) -> str:
     """Write ``fig`` to ``path`` (PNG) without leaving a partial file; closes it."""
-    import matplotlib.pyplot as plt
-
     tmp = f"{path}.part.png"
     fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
     plt.close(fig)

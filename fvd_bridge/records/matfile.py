@@ -14,6 +14,7 @@ variable ``Ts`` [s] in the file. Rows in messages are matrix rows, from 1.
 from __future__ import annotations
 
 import numpy as np
+import scipy.io
 
 from ..errors import InputError
 from .options import ReadOptions
@@ -45,8 +46,6 @@ def read_mat(path: str, opts: ReadOptions) -> RawColumns:
 
 
 def _load(path: str) -> dict:
-    import scipy.io
-
     try:
         return scipy.io.loadmat(path)
     except NotImplementedError:

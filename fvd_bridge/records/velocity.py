@@ -46,6 +46,7 @@ from math import factorial
 import numpy as np
 
 from ..errors import InputError
+from .cycles import displacement_noise
 
 #: odd windows [samples] the adaptive rule chooses from (about x sqrt(2) apart)
 LADDER = (5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025)
@@ -126,7 +127,7 @@ def _gain_along(window: int, polyorder: int, deriv: int, dt: float, n: int) -> n
 
 
 def _savgol(x: np.ndarray, window: int, polyorder: int, deriv: int, dt: float) -> np.ndarray:
-    from scipy.signal import savgol_filter
+    from scipy.signal import savgol_filter  # lazily: +0.5 s on `fvd-bridge --help`
 
     if deriv > polyorder:
         return np.zeros(x.size)
@@ -146,7 +147,7 @@ def smooth_index(idx: np.ndarray, span: int = SMOOTH_SPAN) -> np.ndarray:
     """Running median, then running minimum, over ``span`` samples of the
     chosen ladder index (an isolated jump is dropped; a drop spreads over
     the span, so no sample takes a longer window than its neighbours allow)."""
-    from scipy.ndimage import median_filter, minimum_filter1d
+    from scipy.ndimage import median_filter, minimum_filter1d  # lazily: +60 ms on `fvd-bridge --help`
 
     if span <= 1 or idx.size < span:
         return idx
@@ -206,8 +207,6 @@ def derive(d: np.ndarray, dt: float, window: int | None = None, polyorder: int =
     noise std (None: estimated from d, cycles.displacement_noise).
     ``where`` prefixes messages (e.g. the file name).
     """
-    from .cycles import displacement_noise
-
     check_settings(window, polyorder, d.size, where)
     if polyorder + 2 > d.size:
         raise InputError(f"{where}--sg-order {polyorder}: needs at least {polyorder + 2} samples, "
@@ -250,8 +249,6 @@ def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = No
     ``v_noise`` [mm/s]: the velocity's noise std (None: estimated from v).
     Returns the acceleration, its per-sample noise std and the settings.
     """
-    from .cycles import displacement_noise
-
     check_settings(window, polyorder, v.size, where)
     if polyorder + 2 > v.size:
         raise InputError(f"{where}--sg-order {polyorder}: needs at least {polyorder + 2} samples, "
