@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 export MPLBACKEND := Agg
 
-.PHONY: demo test bench sysdeps clean
+.PHONY: demo test test-slow bench sysdeps clean
 
 # openseespy needs the Debian packages libblas3 and liblapack3; the FMU
 # export compiles its binary with gcc and cmake.
@@ -38,7 +38,11 @@ demo: $(STAMP)
 	$(BIN)/fvd-bridge demo --out demo_out
 
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n 2 --dist loadfile
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not slow"
+
+# the long end-to-end checks (.ci/run runs them after make test)
+test-slow: $(STAMP)
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow
 
 bench: $(STAMP)
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done

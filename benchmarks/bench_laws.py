@@ -1,4 +1,4 @@
-"""Speed of the nine law kernels: population evaluations per second.
+"""Speed of the law kernels: population evaluations per second.
 
 A 2,500-sample paper-like record (40 mm, 0.5 m/s, dt 0.002 s) and a
 population of 200: the realistic parameter set of each law jittered by +-10 %
@@ -49,7 +49,11 @@ NAIVE_SAMPLE = {  # force at one sample, for the per-member Python loop (laws 1-
     4: lambda d, v, C, a, K1, K2: K1 * d + K2 * d * d + _sv(v, C, a),
     5: lambda d, v, C, a, K, b: _sv(d, K, b) + _sv(v, C, a),
 }
-NAIVE_ODE = {  # (dz/dt, F) for solve_ivp (laws 6-9)
+def _relief(F, C, Fr, p):  # law 10's dashpot velocity at the force F
+    return F / C if abs(F) <= Fr else math.copysign(Fr / C + (abs(F) - Fr) / (p * C), F)
+
+
+NAIVE_ODE = {  # (dz/dt, F) for solve_ivp (laws 6-10)
     6: (lambda z, v, C, K, a, b: v - b * abs(v) * z - b * v * abs(z),
         lambda z, d, v, C, K, a, b: a * K * d + (1 - a) * K * z + C * v),
     7: (lambda z, v, C, a, K, b: v - math.copysign((K * abs(z) ** b / C) ** (1 / a), z),
@@ -57,6 +61,7 @@ NAIVE_ODE = {  # (dz/dt, F) for solve_ivp (laws 6-9)
     8: (lambda z, v, C, K, mu, N: 0.0 if (z >= 1 and v > 0) or (z <= -1 and v < 0) else K / (mu * N) * v,
         lambda z, d, v, C, K, mu, N: np.clip(z, -1, 1) * mu * N + C * v),
     9: (lambda z, v, C, a, b: v - a * abs(v) * z, lambda z, d, v, C, a, b: b * z + C * v),
+    10: (lambda z, v, K, C, Fr, p: K * (v - _relief(z, C, Fr, p)), lambda z, d, v, K, C, Fr, p: z),
 }
 
 

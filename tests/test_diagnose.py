@@ -184,6 +184,7 @@ def test_custom_effect_example_runs():
     assert "ranked first: stribeck" in res.stdout
 
 
+@pytest.mark.slow
 def test_mr_damper_ladder_example(device_files, tmp_path):
     res = subprocess.run([sys.executable, str(REPO / "examples" / "diagnose_mr_damper.py"), "--quick",
                           "--max-rungs", "1", "--out", str(tmp_path / "mr")], capture_output=True, text=True,

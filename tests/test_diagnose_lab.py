@@ -114,6 +114,7 @@ def test_no_effect_nothing_suggested_on_a_lab_record(protocol_name, disp_noise, 
     assert diag.floor > diag.noise["force_floor"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("law", [9, 8])
 def test_contact_gap_on_a_friction_device(law, folder):
     model = catalog().model(f"{law}+gap")

@@ -4,6 +4,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import yaml
 
 REPO = Path(__file__).resolve().parents[1]
@@ -37,12 +38,11 @@ def test_frames_compare_example(shared_dir, tmp_path):
     assert (out / "frame" / "figures" / "drift_profiles.png").is_file()
 
 
+@pytest.mark.slow
 def test_friction_damper_diagnosis_example(shared_dir, tmp_path):
     """The real friction damper with play: laws 9 and 8 diagnosed, the ladder from law 9,
     the models checked on the 1 Hz test; with a friction base no fluid wording."""
     if not (shared_dir / "devices" / "arts_brfd_0.5Hz_25lb.csv").is_file():
-        import pytest
-
         pytest.skip("../shared/devices lacks the friction-damper records")
     out = tmp_path / "fd"
     res = run_example("diagnose_friction_damper.py", "--quick", "--out", str(out), cwd=tmp_path)
