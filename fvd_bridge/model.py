@@ -59,25 +59,30 @@ class Model:
     def has(self, effect_name: str) -> bool:
         return effect_name in self.effect_names
 
-    def with_effect(self, effect, spec_text: str | None = None) -> "Model":
-        """This model plus ``effect`` (an Effect); a repeated effect or a clashing
-        parameter name is an input error (quoting ``spec_text`` when given)."""
-        text = spec_text or f"{self.spec}+{effect.name}"
+    def refusal(self, effect) -> str:
+        """Why ``effect`` cannot be added to this model ('' when it can), from
+        the declarations: a law without a connection takes no series effect,
+        an effect appears once, two effects cannot set the same connection
+        argument, parameter names must not clash."""
         if effect.stage == "series" and not self.law.connection:
-            raise InputError(f"model '{text}': law {self.law.key} ({self.law.name}) cannot sit behind "
-                             f"'{effect.name}' (its step form has no connection)")
+            return (f"law {self.law.key} ({self.law.name}) cannot sit behind '{effect.name}' "
+                    f"(its step form has no connection)")
         if self.has(effect.name):
-            raise InputError(f"model '{text}': effect '{effect.name}' appears twice")
-        taken = {s for e in self.effects for s in e.slots}
-        if taken & set(effect.slots):
-            raise InputError(f"model '{text}': effect '{effect.name}' sets the connection's "
-                             f"{sorted(taken & set(effect.slots))[0]}, which another effect sets")
-        model = Model(self.law, self.effects + (effect,))
-        names = model.names
-        if len(set(names)) != len(names):
-            dup = sorted({n for n in names if names.count(n) > 1})[0]
-            raise InputError(f"model '{text}': parameter name '{dup}' clashes")
-        return model
+            return f"effect '{effect.name}' appears twice"
+        taken = {s for e in self.effects for s in e.slots} & set(effect.slots)
+        if taken:
+            return f"effect '{effect.name}' sets the connection's {sorted(taken)[0]}, which another effect sets"
+        names = self.names + effect.names
+        clash = sorted({n for n in names if names.count(n) > 1})
+        return f"parameter name '{clash[0]}' clashes" if clash else ""
+
+    def with_effect(self, effect, spec_text: str | None = None) -> "Model":
+        """This model plus ``effect`` (an Effect); what ``refusal`` refuses is an
+        input error (quoting ``spec_text`` when given)."""
+        why = self.refusal(effect)
+        if why:
+            raise InputError(f"model '{spec_text or f'{self.spec}+{effect.name}'}': {why}")
+        return Model(self.law, self.effects + (effect,))
 
     def without_effect(self, effect_name: str) -> "Model":
         """This model without the named effect (the nested model)."""

@@ -116,3 +116,18 @@ def test_no_series_connection():
         with pytest.raises(InputError, match="cannot sit behind"):
             parse_model(spec)
     assert parse_model("10+friction").exports() == {"opensees": "", "fmu": ""}
+
+
+def test_diagnose_tries_only_what_the_law_can_take(clean, tmp_path):
+    """diagnose's candidates come from the registry's refusals: on law 10 it
+    refits no series effect (its own spring is the series spring)."""
+    from fvd_bridge.catalog import catalog
+    from fvd_bridge.diagnose.rank import refit_all
+
+    t, d, _, F = clean
+    rec = lab_from_forces(t, d, F, 1.0, 0.005, seed=0, tmp_path=tmp_path, name="oil")
+    base = parse_model("10")
+    series = {name: e for name, e in catalog().effects.items() if e.stage == "series"}
+    assert {base.refusal(e) != "" for e in series.values()} == {True}
+    assert refit_all(base, None, rec, series, seed=0, settings=None) == []
+    assert base.refusal(catalog().effect("friction")) == ""

@@ -175,13 +175,15 @@ class Judge:
 
 def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, progress=None,
               keep: dict | None = None) -> list[Candidate]:
-    """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) not
-    already in it, from the nested start; a candidate in ``keep`` ({effect:
-    Candidate}) whose OF is not above the base's is kept as it is."""
+    """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) that
+    the model can take (``Model.refusal``: not already in it, not a series
+    effect on a law without a connection, ...), from the nested start; a
+    candidate in ``keep`` ({effect: Candidate}) whose OF is not above the
+    base's is kept as it is."""
     scales = record.scales()
     out = []
     for name, e in effects.items():
-        if base_model.has(name):
+        if base_model.refusal(e):
             continue
         old = (keep or {}).get(name)
         if old is not None and old.of <= base_fit.of:
