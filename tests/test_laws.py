@@ -190,3 +190,16 @@ def test_golden_output(number):
     assert tuple(pars.values()) == REFERENCE[number] and list(pars) == law.names
     F = law.force(d, v, GOLDEN_DT, np.array([REFERENCE[number]]))[0]
     assert np.max(np.abs(F - F_golden)) <= 1e-9 * np.max(np.abs(F_golden))
+
+
+def test_readme_table_of_laws_is_the_registrys():
+    """The README's table of laws is `fvd-bridge laws --markdown`, generated
+    from the registry: a law added there shows up in the docs' table."""
+    from pathlib import Path
+
+    from fvd_bridge.commands.laws import markdown_table
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    table = markdown_table()
+    assert table in readme
+    assert all(f"| {n} {law.name} |" in table for n, law in LAWS.items())

@@ -14,6 +14,8 @@ def add_parser(sub):
                                    "in the registry, each with its equation, source, parameters with units, "
                                    "the paper's Table 4 bounds (a literature default for the others), the 'auto' "
                                    "bounds derived from a record, and its OpenSees and FMU targets.")
+    p.add_argument("--markdown", action="store_true",
+                   help="print the table of laws as Markdown (the README's, generated from the registry)")
     p.set_defaults(func=run)
 
 
@@ -24,7 +26,25 @@ def targets(law) -> str:
     return f"{ops}; FMU: {'yes' if law.fmu else 'no'}"
 
 
+def markdown_table() -> str:
+    """The laws as a Markdown table: number and name, equation, state,
+    OpenSees materials and kind, FMU (the README's table of laws)."""
+    def cell(text):
+        return str(text).replace("|", "\\|")
+
+    rows = ["| law | equation | state | OpenSees | FMU |", "|---|---|---|---|---|"]
+    for law in LAWS.values():
+        form = law.opensees
+        ops = f"`{form.materials}` ({form.accuracy})" if form else "none"
+        rows.append(f"| {law.number} {cell(law.name)} | {cell(law.equation)} | {', '.join(law.state) or '-'} "
+                    f"| {cell(ops)} | {'yes' if law.fmu else 'no'} |")
+    return "\n".join(rows)
+
+
 def run(args) -> int:
+    if args.markdown:
+        print(markdown_table())
+        return 0
     print("auto bounds shown for a record with peak F 300 kN, v 500 mm/s, d 40 mm\n")
     for law in LAWS.values():
         state = f", state {', '.join(law.state)}" if law.state else ""
