@@ -45,6 +45,10 @@ KIND = "fvd_bridge.calibration"
 UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
 
 
+#: a motion counts as beyond the tested range from this share above its peaks
+TESTED_MARGIN = 0.05
+
+
 @dataclass
 class Calibration:
     """A calibrated model: the Model, its parameter vector (model order) with
@@ -72,6 +76,20 @@ class Calibration:
     def derived(self) -> dict:
         """{name: (value, unit)}: law 8's slip force mu*N [kN]."""
         return self.model.derived(self.params)
+
+    def beyond_tested(self, record, margin: float = TESTED_MARGIN) -> list[str]:
+        """What of ``record``'s motion goes beyond the calibration record's
+        (peak stroke d [mm], peak velocity v [mm/s], more than ``margin``
+        above them): the model is then an extrapolation. One line each."""
+        peaks = (self.record or {}).get("peaks") or {}
+        mine = record.scales()
+        out = []
+        for key, what, unit in (("d", "stroke", "mm"), ("v", "velocity", "mm/s")):
+            ref = peaks.get(key)
+            if ref and mine[key] > (1.0 + margin) * ref:
+                out.append(f"{record.name}: peak {what} {mine[key]:.4g} {unit} is beyond the {ref:.4g} {unit} "
+                           f"the model was calibrated on ({self.record.get('name', 'its record')}): an extrapolation")
+        return out
 
     def force(self, record, substeps: int = 1) -> np.ndarray:
         """The calibrated model's force [kN] on ``record`` (n_t,)."""

@@ -260,3 +260,39 @@ def test_acceptance_force_at_the_design_velocity():
     P = np.array([[45.0, 0.3], [50.0, 0.3]])
     F = forces_at_velocity(parse_model("2").force(motion, P), motion.v)
     assert F == pytest.approx(np.repeat(P[:, :1] * 400.0 ** 0.3, 2, axis=1), rel=1e-4)  # tension, compression
+
+
+def test_derived_quantities_are_averaged_over_runs():
+    """Law 8's slip force mu*N in the table is the mean (and sigma) of each
+    run's product, not the product of the mean mu and the mean N (two runs
+    with the same mu*N = 60 kN but different mu and N: 60, sigma 0; the
+    product of the means would give 0.45 x 150 = 67.5)."""
+    from fvd_bridge.campaign.outputs import summarize
+    from fvd_bridge.campaign.runner import CampaignSettings
+    from fvd_bridge.fit.result import FitResult
+    from fvd_bridge.laws import LAWS
+
+    law = LAWS[8]
+    bounds = law.bounds("paper", {})
+
+    def run(mu, N):
+        return FitResult("8", law.names, [p.unit for p in law.parameters], np.array([0.2, 30.0, mu, N]), 0.1,
+                         bounds, "paper", "de", 0, 1)
+
+    class Rec:
+        name = "dev"
+
+    summary = summarize([Rec()], {("dev", "8"): [run(0.3, 200.0), run(0.6, 100.0)]}, CampaignSettings(("8",)))
+    mean, sigma, unit = summary["models"]["8"]["derived"][0]["mu*N"]
+    assert (mean, sigma, unit) == (pytest.approx(60.0), pytest.approx(0.0, abs=1e-12), "kN")
+
+
+@pytest.mark.parametrize("optimizer", ["de", "ga"])
+def test_runs_disagree_hint_never_names_the_optimizer_in_use(optimizer):
+    from fvd_bridge.catalog import parse_model
+
+    runs = [fit("2", ["C", "alpha"], [45.0, 0.3], of, [[0, 900], [0, 1]]) for of in (0.139, 0.447)]
+    for r in runs:
+        r.optimizer = optimizer
+    msg = next(w["message"] for w in checks.fit_warnings(parse_model("2"), runs) if w["code"] == "runs_disagree")
+    assert f"({optimizer})" in msg and ("--optimizer de" in msg) == (optimizer != "de")

@@ -6,13 +6,15 @@ and ranked; where the model fails; the CLI's JSON, figures and bad input.
 from __future__ import annotations
 
 import dataclasses
+import shlex
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
-from conftest import PLUGIN, REPO, cli_env
+from conftest import CLI, PLUGIN, REPO, cli_env
 from fvd_bridge import cli
 from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_ladder
 from fvd_bridge.fit import fit_model
@@ -108,6 +110,16 @@ def test_cli_json_report_and_figures(friction_csv, tmp_path, capsys):
     assert (out / "friction_dev_where.png").stat().st_size > 10_000
     assert json.loads((out / "friction_dev_diagnose.json").read_text())["model"] == "2"
     assert not list(tmp_path.glob(".out.partial*"))
+    # diagnose hands over what it found: the top candidate's calibration file, its OF the
+    # candidate's, and it exports to what the candidate says
+    from fvd_bridge.calibration import Calibration
+    from fvd_bridge.export.opensees import opensees_export
+
+    top = next(c for c in report["all_candidates"] if c["effect"] == "friction")
+    cal = Calibration.load(report["candidates"][0]["calibration"])
+    assert cal.spec == "2+friction" and cal.of == pytest.approx(top["of"], rel=1e-12)
+    assert top["calibration"] == report["candidates"][0]["calibration"] and "opensees" in top["exports"]
+    assert opensees_export(cal.model, cal.named()).commands
 
 
 def test_cli_next_step_shows_the_error_fallen(friction_csv, tmp_path, capsys):
@@ -117,7 +129,7 @@ def test_cli_next_step_shows_the_error_fallen(friction_csv, tmp_path, capsys):
     out = capsys.readouterr().out
     # the exact model: nothing more is suggested (the OF is near the floor; friction at the
     # rests between levels meets the derived velocity's noise there, which keeps it above 1x)
-    assert "with model 2+friction" in out and "suggestion:" not in out
+    assert "with model 2+friction" in out and "suggestion:" not in out and "next:" not in out
     assert "friction.Ff = " in out and "error fell from OF" in out and "(2) to" in out
 
 
@@ -130,6 +142,7 @@ def test_cli_ladder_prints_table_and_writes_figure(friction_csv, tmp_path, capsy
     assert (tmp_path / "friction_dev_ladder.png").stat().st_size > 5_000
     report = json.loads((tmp_path / "friction_dev_diagnose.json").read_text())
     assert [r["model"] for r in report["ladder"]["rungs"]] == ["2", "2+friction"]
+    assert all(Path(r["calibration"]).is_file() for r in report["ladder"]["rungs"])
 
 
 @pytest.mark.parametrize("extra, words", [
@@ -206,3 +219,19 @@ def test_mr_damper_example_without_shared(tmp_path, monkeypatch):
     monkeypatch.setattr(mod, "DEVICES", tmp_path / "nowhere")
     assert mod.main(["--out", str(tmp_path / "o")]) == 0
     assert not (tmp_path / "o").exists()
+
+
+def test_next_lines_run_as_printed(friction_csv, tmp_path, capsys):
+    """The text report's next: lines are commands that run as printed: export the
+    top candidate's calibration file, diagnose it further on the same record."""
+    code = cli.main(["diagnose", str(friction_csv), "--law", "2", "--out", str(tmp_path / "d"),
+                     "--pop", "8", "--gens", "60", "--quiet", "--no-figures"])
+    assert code == 0
+    lines = [line[len("next: "):] for line in capsys.readouterr().out.splitlines() if line.startswith("next: ")]
+    export, again = lines
+    assert export.startswith("fvd-bridge export opensees ") and again.endswith("--law 2+friction")
+    assert str(friction_csv) in again
+    res = subprocess.run([*CLI, *shlex.split(export)[1:]], capture_output=True, text=True, env=cli_env(),
+                         cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert (tmp_path / "damper.py").is_file()

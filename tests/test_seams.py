@@ -187,3 +187,18 @@ def test_readme_python_section_runs_as_written(tmp_path):
                          cwd=tmp_path, timeout=600)
     assert res.returncode == 0, res.stderr[-2000:]
     assert "OF" in res.stdout
+
+
+def test_report_says_what_one_device_cannot_tell():
+    """With one device the robustness index is 0 by definition: the report
+    says so, and its column is named apart from a law's parameter beta."""
+    from fvd_bridge.campaign.report import format_report
+
+    m = {"names": ["C", "alpha", "beta"], "units": ["kN/(mm/s)", "1/mm", "kN/mm"], "of_mean": np.array([0.1]),
+         "of_sigma": np.array([0.0]), "p_mean": np.array([[0.2, 0.15, 27.0]]), "p_sigma": np.zeros((1, 3)),
+         "of_overall": 0.1, "beta": 0.0, "non_dominated": True, "warnings": {"dev": []}}
+    text = format_report({"devices": ["dev"], "models": {"9": m}})
+    assert "beta_r" in text and "one device: beta_r" in text
+    assert "one device" not in format_report({"devices": ["a", "b"], "models": {"9": {
+        **m, "of_mean": np.array([0.1, 0.1]), "of_sigma": np.zeros(2), "p_mean": np.array([[0.2, 0.15, 27.0]] * 2),
+        "p_sigma": np.zeros((2, 3)), "warnings": {"a": [], "b": []}}}})

@@ -38,10 +38,12 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
     ofs = np.array([r.of for r in runs])
     spread = relative_range(ofs) if len(runs) > 1 else 0.0
     if spread > RUN_RANGE:
+        remedy = "more generations" + (" or --optimizer de" if best.optimizer != "de" else
+                                       ", more runs (--runs), or narrower bounds around the best run (--bound)")
         out.append({"code": "runs_disagree", "parameter": None,
                     "message": f"runs disagree: OF {ofs.min():.4g} to {ofs.max():.4g} over {len(runs)} runs, the worst "
-                               f"{spread:.1%} above the best (more than {RUN_RANGE:.0%}; the optimizer does not find "
-                               f"one optimum: more generations or --optimizer de)"})
+                               f"{spread:.1%} above the best (more than {RUN_RANGE:.0%}; the optimizer "
+                               f"({best.optimizer}) does not find one optimum: {remedy})"})
     if law1_of is not None and model.spec != "1" and ofs.mean() > NO_BETTER * law1_of:
         out.append({"code": "no_better_than_law1", "parameter": None,
                     "message": f"mean OF {ofs.mean():.4g} is no better than law 1's {law1_of:.4g}"})

@@ -45,6 +45,11 @@ def summarize(records, results: dict, cs) -> dict:
         P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)
         OF = np.array([[r.of for r in runs] for runs in per_dev])          # (dev, run)
         p_mean, p_sigma = P.mean(axis=1), P.std(axis=1)
+        # derived quantities (law 8's mu*N) per run, then over runs: not of the mean parameters
+        model = cs.model(spec)
+        derived = [[model.derived(p) for p in runs] for runs in P]          # (dev, run) of {name: (value, unit)}
+        d_stats = [{name: (float(np.mean([r[name][0] for r in runs])), float(np.std([r[name][0] for r in runs])),
+                           unit) for name, (_, unit) in runs[0].items()} for runs in derived]
         ranges = np.mean([runs[0].bounds for runs in per_dev], axis=0)      # (par, 2), over devices
         near_zero = stats.near_zero(p_mean, ranges, per_dev[0][0].log)
         delta = stats.deltas(p_mean, near_zero)
@@ -54,7 +59,7 @@ def summarize(records, results: dict, cs) -> dict:
             "notes": [_near_zero_note(n, u, p_mean[:, j].mean(), ranges[j])
                       for j, (n, u) in enumerate(zip(names, units)) if near_zero[j]],
             "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
-            "p_mean": p_mean, "p_sigma": p_sigma, "delta": delta, "delta_n": delta_n, "beta": beta,
+            "p_mean": p_mean, "p_sigma": p_sigma, "derived": d_stats, "delta": delta, "delta_n": delta_n, "beta": beta,
             "of_overall": float(OF.mean()),
             "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
             "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, per_dev)},
@@ -117,8 +122,8 @@ def _tables(stage, summary, cs):
             rows.append([spec, dev, "OF", "-", m["of_mean"][k], m["of_sigma"][k]])
             for j, (n, u) in enumerate(zip(m["names"], m["units"])):
                 rows.append([spec, dev, n, u, m["p_mean"][k][j], m["p_sigma"][k][j]])
-            for name, (value, unit) in cs.model(spec).derived(m["p_mean"][k]).items():
-                rows.append([spec, dev, name, unit, value, float("nan")])
+            for name, (mean, sigma, unit) in m["derived"][k].items():
+                rows.append([spec, dev, name, unit, mean, sigma])
         for j, n in enumerate(m["names"]):
             note = "near-zero mean: not in beta" if m["near_zero"][j] else ""
             for k, dev in enumerate(devices):

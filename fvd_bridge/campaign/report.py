@@ -30,7 +30,7 @@ def format_report(summary: dict) -> str:
             label = f"law {spec}" if k == 0 else ""
             cells = "".join(f"{f'{mean[i]:.4g} ({sigma[i]:.2g})':>{w_cell}}" for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
-    lines += [""] + _pareto_lines(models, w_model)
+    lines += [""] + _pareto_lines(models, w_model, len(devices))
     warn = [(spec, dev, w["message"]) for spec, m in models.items()
             for dev, ws in m["warnings"].items() for w in ws]
     if warn:
@@ -39,14 +39,18 @@ def format_report(summary: dict) -> str:
     return "\n".join(lines)
 
 
-def _pareto_lines(models: dict, w_model: int) -> list:
-    """Per model: mean OF, beta and the Pareto flag; the Pareto set; the robustness notes."""
-    lines = [f"{'model':<{w_model}}{'mean OF':>10}{'beta':>10}  Pareto"]
+def _pareto_lines(models: dict, w_model: int, n_devices: int) -> list:
+    """Per model: mean OF, the robustness index beta_r (paper eq. 23; 'beta_r', not a
+    law's parameter beta) and the Pareto flag; the Pareto set; the robustness notes."""
+    lines = [f"{'model':<{w_model}}{'mean OF':>10}{'beta_r':>10}  Pareto  (beta_r: robustness index over devices)"]
     for spec, m in models.items():
         lines.append(f"{'law ' + spec:<{w_model}}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
                      f"{'non-dominated' if m['non_dominated'] else ''}")
     front = [s for s, m in models.items() if m["non_dominated"]]
     lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
+    if n_devices < 2:
+        lines.append("one device: beta_r measures the scatter over devices, so it is 0 here and the Pareto "
+                     "set ranks accuracy alone; calibrate several devices of the series to compare robustness")
     notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
     if notes:
         lines += ["", "Robustness notes:"] + [f"  law {spec}, {note}" for spec, note in notes]
@@ -58,7 +62,7 @@ def format_series(summary: dict, shown: int = 3) -> str:
     warnings counted by kind (the first few devices named); every value is in the files."""
     models = summary["models"]
     w_model = _width([f"law {s}" for s in models], 5) + GAP
-    lines = ["", f"{len(summary['devices'])} devices", ""] + _pareto_lines(models, w_model)
+    lines = ["", f"{len(summary['devices'])} devices", ""] + _pareto_lines(models, w_model, len(summary["devices"]))
     counts = []
     for spec, m in models.items():
         by_code: dict = {}

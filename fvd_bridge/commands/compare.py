@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 
 import numpy as np
 
@@ -93,6 +94,8 @@ def run(args) -> int:
         _check_units(cal, record, record_path)
     if args.window:
         record = _window(args.window, record)
+    for line in dict.fromkeys(msg for cal in cals for msg in cal.beyond_tested(record)):
+        print(f"warning: {line}", file=sys.stderr)
     rows = []
     for cal, path in zip(cals, param_files):
         F = cal.force(record)

@@ -6,10 +6,17 @@ import json
 import os
 import sys
 
+import shlex
+
+from ..calibration import Calibration
+from ..campaign.outputs import spec_file
 from ..catalog import catalog
 from ..errors import InputError
 from ..io.staging import safe_name, staged_dir
 from .common import add_record_options, read_records
+
+#: the reading options a command line repeats to read the record the same way
+READ_OPTIONS = ("columns", "units", "mat_var", "dt", "sg_window")
 
 
 def add_parser(sub):
@@ -70,7 +77,10 @@ def run(args) -> int:
     report["settings"] = {"seed": args.seed, "optimizer": "de", **vars(settings)}
     if lad is not None:
         report["ladder"] = lad.as_dict()
-    files = _write(args, record, diag, lad, report)
+    fits = _refits(diag, lad)
+    paths = {spec: os.path.join(args.out, "params", safe_name(record.name), spec_file(spec)) for spec in fits}
+    _hand_over(report, paths)
+    files = _write(args, record, diag, lad, report, fits)
     if args.json:
         print(json.dumps(report, indent=1))
     else:
@@ -79,17 +89,61 @@ def run(args) -> int:
             print()
             print(format_ladder(lad))
         else:
-            print(format_diagnosis(diag, args.record))
+            print(format_diagnosis(diag, args.record, _next_lines(args, diag, paths)))
         if files:
             print(f"\nwrote {', '.join(files)}")
     return 0
 
 
-def _write(args, record, diag, lad, report) -> list[str]:
-    """Figures and the JSON report, all or nothing (a staging directory)."""
+def _refits(diag, lad) -> dict:
+    """{spec: (model, fit)} of what diagnose found worth keeping: every
+    candidate that passed its checks, and with the ladder every rung."""
+    diagnoses = lad.diagnoses if lad is not None else [diag]
+    found = {c.spec: (c.model, c.fit) for d in diagnoses for c in d.candidates if c.significant}
+    if lad is not None:
+        found.update({d.spec: (d.model, d.fit) for d in lad.diagnoses})
+    return found
+
+
+def _hand_over(report: dict, paths: dict) -> None:
+    """Each candidate and rung of the report names its calibration file
+    (``calibration``: the path calibrate would write, in OUT/params/)."""
+    rows = report["candidates"] + report["all_candidates"] + (report.get("ladder") or {}).get("rungs", [])
+    for row in rows:
+        spec = row.get("spec") or row.get("model") or f"{report['model']}+{row['effect']}"
+        if spec in paths:
+            row["calibration"] = paths[spec]
+    report["calibrations"] = paths
+
+
+def _next_lines(args, diag, paths: dict) -> list:
+    """Commands that run as printed: export the best candidate's calibration
+    file (to OpenSees where it exports there, else to an FMU), and diagnose
+    it further on the same record read the same way."""
+    best = diag.best
+    if best is None or best.spec not in paths:
+        return []
+    path = shlex.quote(paths[best.spec])
+    target = "opensees -o damper.py" if not best.exports["opensees"] else "fmu -o damper.fmu"
+    reading = " ".join(f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"
+                       for name in READ_OPTIONS if getattr(args, name, None) is not None)
+    plugins = " ".join(f"--plugin {shlex.quote(p)}" for p in args.plugin)
+    again = " ".join(x for x in ("fvd-bridge diagnose", shlex.quote(args.record), reading, plugins,
+                                 f"--law {best.spec}") if x)
+    return [f"fvd-bridge export {target.split()[0]} {path} {' '.join(target.split()[1:])}", again]
+
+
+def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
+    """The calibration files of what diagnose found (``_refits``), figures
+    and the JSON report, all or nothing (a staging directory)."""
     base = safe_name(record.name)
     written = []
+    settings = {"source": "diagnose", **report["settings"]}
     with staged_dir(args.out) as stage:
+        for spec, (model, fit) in fits.items():
+            name = os.path.join("params", safe_name(record.name), spec_file(spec))
+            Calibration.from_fit(model, fit, record, settings).save(os.path.join(stage, name))
+            written.append(name)
         with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:
             json.dump(report, fh, indent=1)
         written.append(f"{base}_diagnose.json")

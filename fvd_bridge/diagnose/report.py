@@ -22,8 +22,10 @@ def _targets(exports: dict) -> str:
     return ", ".join(ok) + (f" ({'; '.join(no)})" if no else "") if ok else "none (" + "; ".join(no) + ")"
 
 
-def format_diagnosis(diag, record_label: str | None = None) -> str:
-    """The short text summary: fit, where it fails, candidates, verdict."""
+def format_diagnosis(diag, record_label: str | None = None, next_lines: list | None = None) -> str:
+    """The short text summary: fit, where it fails, candidates, verdict;
+    ``next_lines``: the commands to run next (default: diagnose the best
+    candidate on ``record_label``)."""
     f = diag.fit
     n = diag.noise
     lines = [f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g} "
@@ -65,7 +67,8 @@ def format_diagnosis(diag, record_label: str | None = None) -> str:
             lead = "suggestion:" if k == 0 else "       also:"
             lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower)")
             lines.append(f"{'':<12} exports to: {_targets(c.exports)}")
-        lines.append(f"next: fvd-bridge diagnose RECORD --law {diag.best.spec}")
+        for line in next_lines or [f"fvd-bridge diagnose {record_label or 'RECORD'} --law {diag.best.spec}"]:
+            lines.append(f"next: {line}")
     return "\n".join(lines)
 
 
