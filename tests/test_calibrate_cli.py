@@ -83,6 +83,8 @@ def test_warns_on_paper_bounds(two_devices, tmp_path):
     (["--bounds", "tight"], "invalid choice"),
     (["--bound", "2:zeta=0,1", "--laws", "2"], "has no parameter 'zeta'"),
     (["--runs", "0"], "--runs 0"),
+    (["--window", "500,600"], "--window '500,600': holds 0 samples"),
+    (["--window", "2"], "expected T0,T1"),
 ])
 def test_bad_options_exit_2(two_devices, tmp_path, args, needle):
     res = calibrate([two_devices[0], "--out", str(tmp_path / "x"), "--quiet", *args])
@@ -160,3 +162,23 @@ def test_calibrate_with_plugin_effect(two_devices, tmp_path):
     # the rig device has no cubic spring: the fit leaves it near zero
     assert abs(p["parameters"]["cubic_spring.K3"]["value"]) < 1e-4
     assert (out / "figures" / "loops_dev_a_law2+cubic_spring.png").is_file()
+
+
+def test_window_keeps_part_of_the_record(two_devices, tmp_path):
+    """--window T0,T1 fits only that part (the velocity derived on the whole
+    record first) and the calibration file says which part."""
+    from fvd_bridge.calibration import Calibration
+    from fvd_bridge.commands.common import window
+    from fvd_bridge.records import read_record
+
+    out = tmp_path / "w"
+    res = calibrate([two_devices[0], "--laws", "2", "--runs", "1", "--pop", "8", "--gens", "40", "--window", "1,4",
+                     "--out", str(out), "--quiet"])
+    assert res.returncode == 0, res.stderr
+    cal = Calibration.load(str(out / "params" / "dev_a" / "law2.yaml"))
+    assert cal.record["window"] == [1.0, 4.0]
+    part = window(read_record(two_devices[0]), "1,4")
+    assert part.t[0] >= 1.0 and part.t[-1] <= 4.0 and cal.record["samples"] == part.n
+    # eq. 18 on the window, computed here: integral |F - F_model| dt / (sigma_F (t1 - t0))
+    err = np.trapezoid(np.abs(part.F - cal.force(part)), part.t) / (np.std(part.F) * (part.t[-1] - part.t[0]))
+    assert cal.of == pytest.approx(float(err), rel=1e-6)

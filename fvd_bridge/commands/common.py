@@ -5,6 +5,9 @@ from __future__ import annotations
 import argparse
 import os
 
+import numpy as np
+
+from ..errors import InputError
 from ..records import ReadOptions, parse_mapping, read_record
 
 
@@ -19,6 +22,8 @@ def add_record_options(p: argparse.ArgumentParser) -> None:
                                                  "over the whole record (odd; default: chosen per sample "
                                                  "from the record's noise, ICI rule)")
     g.add_argument("--sg-order", type=int, default=3, help="Savitzky-Golay polynomial order (default 3)")
+    g.add_argument("--window", metavar="T0,T1", help="use only T0 <= t <= T1 [s] of each record (e.g. to leave "
+                                                     "out a rest at the start); the velocity is derived first")
 
 
 def read_options(args) -> ReadOptions:
@@ -28,9 +33,29 @@ def read_options(args) -> ReadOptions:
                        sg_window=args.sg_window, sg_order=args.sg_order)
 
 
+def window(record, text: str):
+    """The record's samples with T0 <= t <= T1 (``--window T0,T1`` [s]), the
+    window kept in its provenance; one line naming the option when it holds
+    too few samples."""
+    try:
+        t0, t1 = (float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError(f"--window '{text}': expected T0,T1 in s, e.g. 2,10") from None
+    keep = np.flatnonzero((record.t >= t0) & (record.t <= t1))
+    if not t0 < t1 or keep.size < 16:
+        raise InputError(f"--window '{text}': holds {keep.size} samples of {record.name} "
+                         f"({record.t[0]:g} to {record.t[-1]:g} s); need T0 < T1 and at least 16")
+    out = record.slice(int(keep[0]), int(keep[-1]) + 1)
+    out.provenance["window"] = [t0, t1]
+    return out
+
+
 def read_records(paths, args):
+    """The records at ``paths``, read with the verb's reading options (and
+    cut to ``--window``)."""
     opts = read_options(args)
-    return [read_record(p, opts) for p in paths]
+    records = [read_record(p, opts) for p in paths]
+    return [window(r, args.window) for r in records] if getattr(args, "window", None) else records
 
 
 def quiet_opensees() -> None:

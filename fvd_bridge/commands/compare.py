@@ -14,7 +14,7 @@ from ..fit import objective
 from ..io.staging import safe_name, staged_dir, write_json
 from ..records import Record
 from ..rig.protocols import read_history
-from .common import add_record_options, read_records
+from .common import add_record_options, read_records, window
 
 #: a record whose peak force or stroke is this many times the calibration
 #: record's (or its inverse) is in other units (m for mm, N for kN: 1000x),
@@ -31,7 +31,6 @@ def add_parser(sub):
                     "table is best first. A t,d file without force predicts: each model's force on that motion.")
     p.add_argument("files", nargs="+", metavar="PARAMS.yaml... RECORD",
                    help="calibration files, then the record (CSV/.mat t,d,F; or a t,d history)")
-    p.add_argument("--window", metavar="T0,T1", help="use only T0 <= t <= T1 [s] of the record")
     p.add_argument("--out", default=os.path.join("results", "compare"), metavar="DIR",
                    help="folder for the figure and the JSON report (default results/compare)")
     p.add_argument("--json", action="store_true",
@@ -39,18 +38,6 @@ def add_parser(sub):
     p.add_argument("--no-figures", action="store_true", help="write no figure")
     add_record_options(p)
     p.set_defaults(func=run)
-
-
-def _window(text: str, record):
-    try:
-        t0, t1 = (float(x) for x in text.split(","))
-    except ValueError:
-        raise InputError(f"--window '{text}': expected T0,T1 in s, e.g. 2,10") from None
-    keep = np.flatnonzero((record.t >= t0) & (record.t <= t1))
-    if not t0 < t1 or keep.size < 16:
-        raise InputError(f"--window '{text}': holds {keep.size} samples of {record.name} "
-                         f"({record.t[0]:g} to {record.t[-1]:g} s); need T0 < T1 and at least 16")
-    return record.slice(int(keep[0]), int(keep[-1]) + 1)
 
 
 def _read(path: str, args):
@@ -92,8 +79,8 @@ def run(args) -> int:
     record, has_force = _read(record_path, args)
     for cal in cals:
         _check_units(cal, record, record_path)
-    if args.window:
-        record = _window(args.window, record)
+    if args.window and not has_force:  # a t,d history (a record is cut on reading)
+        record = window(record, args.window)
     for line in dict.fromkeys(msg for cal in cals for msg in cal.beyond_tested(record)):
         print(f"warning: {line}", file=sys.stderr)
     rows = []

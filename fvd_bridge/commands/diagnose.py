@@ -16,7 +16,7 @@ from ..io.staging import safe_name, staged_dir
 from .common import add_record_options, read_records
 
 #: the reading options a command line repeats to read the record the same way
-READ_OPTIONS = ("columns", "units", "mat_var", "dt", "sg_window")
+READ_OPTIONS = ("columns", "units", "mat_var", "dt", "sg_window", "window")
 
 
 def add_parser(sub):
