@@ -427,3 +427,28 @@ def test_record_noise_fields_follow_slices(write_csv):
     bare = Record(s["t"], s["d"], s["F"], s["v"], s["v"])
     assert bare.v_noise is None and bare.d_noise is None
     assert Record(s["t"], s["d"], s["F"], s["v"], s["v"], v_noise=0.5).v_noise.shape == s["t"].shape
+
+
+def test_a_measured_velocity_can_be_left_out(tmp_path):
+    """--columns v=none: a record's own v column is ignored and v derived from
+    d, as without the column; only v can be left out (one line otherwise)."""
+    import argparse
+
+    from fvd_bridge.commands.common import add_record_options, read_options
+
+    t = np.arange(0.0, 4.0, 0.005)
+    d = 20.0 * np.sin(2 * np.pi * t)
+    v = 40.0 * np.pi * np.cos(2 * np.pi * t)
+    path = tmp_path / "with_v.csv"
+    path.write_text("t,d,F,v\n" + "\n".join(f"{a:.3f},{b:.6f},{0.5 * c:.6f},{c:.6f}" for a, b, c in zip(t, d, v)))
+    parser = argparse.ArgumentParser()
+    add_record_options(parser)
+    measured = read_record(str(path), read_options(parser.parse_args(["--units", "t=s,d=mm,F=kN,v=mm/s"])))
+    derived = read_record(str(path), read_options(parser.parse_args(["--units", "t=s,d=mm,F=kN,v=mm/s",
+                                                                      "--columns", "v=none"])))
+    assert measured.provenance["velocity"]["method"] == "measured"
+    assert derived.provenance["velocity"]["method"] != "measured"
+    assert np.allclose(measured.v, v, rtol=0, atol=1e-6) and not np.allclose(derived.v, v, rtol=0, atol=1e-6)
+    assert np.max(np.abs(derived.v - v)[200:-200]) < 0.01 * np.max(np.abs(v))  # d is exact here
+    with pytest.raises(InputError, match="only the velocity can be left out"):
+        read_options(parser.parse_args(["--columns", "d=none"]))

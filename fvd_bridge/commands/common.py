@@ -9,12 +9,14 @@ import numpy as np
 
 from ..errors import InputError
 from ..records import ReadOptions, parse_mapping, read_record
+from ..records.options import NO_COLUMN
 
 
 def add_record_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("reading records (or a YAML sidecar NAME.yaml next to each file)")
     g.add_argument("--columns", help="column mapping, e.g. t=time,d=disp,F=load (CSV header names) "
-                                     "or d=0,F=2 (.mat column indices with --mat-var)")
+                                     "or d=0,F=2 (.mat column indices with --mat-var); v=none leaves a "
+                                     "measured velocity out (v derived from d)")
     g.add_argument("--units", help="units of the columns, e.g. t=ms,d=m,F=N (default s, mm, kN, mm/s)")
     g.add_argument("--mat-var", help=".mat variable holding the columns, e.g. x_F")
     g.add_argument("--dt", type=float, help="time step [s] when the file has no time column")
@@ -27,10 +29,13 @@ def add_record_options(p: argparse.ArgumentParser) -> None:
 
 
 def read_options(args) -> ReadOptions:
-    return ReadOptions(columns=parse_mapping(args.columns, "--columns"),
-                       units=parse_mapping(args.units, "--units"),
+    columns = parse_mapping(args.columns, "--columns")
+    derive = columns.get("v") == NO_COLUMN  # --columns v=none: derive v from d
+    if derive:
+        del columns["v"]
+    return ReadOptions(columns=columns, units=parse_mapping(args.units, "--units"),
                        mat_var=args.mat_var, dt=args.dt,
-                       sg_window=args.sg_window, sg_order=args.sg_order)
+                       sg_window=args.sg_window, sg_order=args.sg_order, derive_velocity=derive)
 
 
 def window(record, text: str):

@@ -103,6 +103,6 @@ def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> 
             "; name the columns with --columns t=...,d=...,F=... or a sidecar YAML")
         raise InputError(f"{path}: row {header_no}, column '{col}' (for {key}) not found; the header has: "
                          f"{', '.join(header)}{hint}")
-    if "v" not in index and "v" in header and "v" not in opts.columns:
+    if "v" not in index and "v" in header and "v" not in opts.columns and not opts.derive_velocity:
         index["v"], names["v"] = header.index("v"), "v"
     return index, names

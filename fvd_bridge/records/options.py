@@ -23,6 +23,8 @@ from ..errors import InputError
 from ..units import CANONICAL, factor
 
 SIDECAR_KEYS = ("columns", "units", "mat_var", "dt")
+#: ``--columns v=none``: leave a measured velocity out and derive v from d
+NO_COLUMN = "none"
 
 
 @dataclass
@@ -33,8 +35,10 @@ class ReadOptions:
     ``mat_var`` or a .mat variable name; ``units`` maps t/d/F/v to a unit
     (see fvd_bridge.units); ``dt`` [s] builds the time column when the file
     has none; ``sg_window`` [samples] and ``sg_order`` set the Savitzky-Golay
-    velocity differentiator (window None: chosen per sample, records/velocity.py).
-    ``sidecar`` is the YAML file the options were completed from, if any.
+    velocity differentiator (window None: chosen per sample, records/velocity.py);
+    ``derive_velocity``: ignore a measured velocity column and derive v from
+    d (``--columns v=none``).  ``sidecar`` is the YAML file the options were
+    completed from, if any.
     """
 
     columns: dict = field(default_factory=dict)
@@ -43,6 +47,7 @@ class ReadOptions:
     dt: float | None = None
     sg_window: int | None = None
     sg_order: int = 3
+    derive_velocity: bool = False
     sidecar: str | None = None
 
 
@@ -60,6 +65,8 @@ def parse_mapping(text: str | None, option: str) -> dict:
             raise InputError(f"{option} '{item}': unknown key '{key}' (expected t, d, F or v)")
         if key in out:
             raise InputError(f"{option} '{item}': key '{key}' given twice")
+        if value == NO_COLUMN and key != "v":
+            raise InputError(f"{option} '{item}': only the velocity can be left out (v={NO_COLUMN}: derived from d)")
         out[key] = value
     return out
 
