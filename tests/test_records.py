@@ -151,7 +151,15 @@ def test_mat_sidecar(tmp_path):
 def test_mat_shared_devices(device_files, index):
     path = device_files[index]
     dt = (None, 0.01)[index]  # the time step from the file's Ts, or given as --dt
-    rec = read_quiet(path, ReadOptions(mat_var="x_F", columns={"d": "0", "F": "2"}, units={"F": "N"}, dt=dt))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RecordWarning)
+        rec = read_record(str(path), ReadOptions(mat_var="x_F", columns={"d": "0", "F": "2"}, units={"F": "N"},
+                                                 dt=dt))
+    # the only note: each MR test starts at rest (1.85 s; 1.5 s) with a load-cell offset, which a fit
+    # would take for the damper's
+    assert [str(w.message) for w in caught] == rec.warnings and len(rec.warnings) == 1
+    assert f"starts with {(1.85, 1.5)[index]:g} s at rest" in rec.warnings[0]
+    assert "% of the peak force)" in rec.warnings[0] and "--window" in rec.warnings[0]
     raw = scipy.io.loadmat(path)["x_F"]
     assert rec.n == raw.shape[0] == (3001, 1501)[index]
     assert rec.dt == pytest.approx(0.01)
@@ -169,7 +177,8 @@ def test_inspect_shared_device_cli(device_files, tmp_path, capsys):
                    "--units", "F=N", "--plot", str(png)])
     out = capsys.readouterr().out
     assert rc == 0
-    assert "samples      3001" in out and "Savitzky-Golay" in out and "warnings     none" in out
+    assert "samples      3001" in out and "Savitzky-Golay" in out and "warnings     1" in out
+    assert "at rest with a force of" in out and "--window 1.85,30" in out
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -452,3 +461,22 @@ def test_a_measured_velocity_can_be_left_out(tmp_path):
     assert np.max(np.abs(derived.v - v)[200:-200]) < 0.01 * np.max(np.abs(v))  # d is exact here
     with pytest.raises(InputError, match="only the velocity can be left out"):
         read_options(parser.parse_args(["--columns", "d=none"]))
+
+
+def test_a_force_offset_at_rest_is_flagged(tmp_path):
+    """A record that starts with 2 s at rest and a force there of 20% of the
+    peak (a load-cell offset) gets one warning naming the --window that leaves
+    the rest out; without the offset, none."""
+    t = np.arange(0.0, 8.0, 0.01)
+    d = np.where(t < 2.0, 0.0, 20.0 * np.sin(2 * np.pi * (t - 2.0)))
+    F = 100.0 * np.gradient(d, t) / (40.0 * np.pi)  # a viscous 100 kN damper
+    for offset, flagged in ((-20.0, True), (0.0, False)):
+        path = tmp_path / f"rest{int(-offset)}.csv"
+        path.write_text("t,d,F\n" + "\n".join(f"{a:.2f},{b:.6f},{c + offset:.6f}" for a, b, c in zip(t, d, F)))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RecordWarning)
+            rec = read_record(str(path), ReadOptions(units={"t": "s", "d": "mm", "F": "kN"}))
+        assert rec.warnings == ([rec.warnings[0]] if flagged else []), rec.warnings
+        if flagged:
+            assert "starts with 2.01 s at rest with a force of -20 kN" in rec.warnings[0]
+            assert "(20% of the peak force)" in rec.warnings[0] and "--window 2.01,7.99" in rec.warnings[0]

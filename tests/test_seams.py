@@ -186,7 +186,7 @@ def test_readme_python_section_runs_as_written(tmp_path):
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=cli_env(),
                          cwd=tmp_path, timeout=600)
     assert res.returncode == 0, res.stderr[-2000:]
-    assert "OF" in res.stdout
+    assert "OF" in res.stdout and "nothing left to explain" in res.stdout
 
 
 def test_report_says_what_one_device_cannot_tell():

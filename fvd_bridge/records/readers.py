@@ -98,6 +98,7 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
             f"{k} [{CANONICAL[k]}]" for k in ("t", "d", "F", "v") if k in raw.data)
             + "; give --units or a sidecar")
     notes += validate.unit_notes(path, dt, conv["d"], raw.names)
+    notes += validate.rest_offset_note(path, t, conv["d"], conv["F"], raw.names)
     prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
             "columns": dict(raw.names), "units": units, "factors": factors,
             "rows": [int(raw.rows[0]), int(raw.rows[-1])], "resampled": note is not None,

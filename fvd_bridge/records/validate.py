@@ -129,3 +129,31 @@ def unit_notes(where: str, dt: float, d: np.ndarray, names: dict) -> list[str]:
         notes.append(f"{where}: column '{names['d']}': displacement amplitude {amp:.3g} mm is very small; "
                      f"is it in m? (--units d=m)")
     return notes
+
+
+#: a rest at the start of a record counts from this long [s]
+REST_S = 0.5
+#: the displacement moves less than this share of its range during a rest
+REST_TRAVEL = 0.005
+#: a force at rest from this share of the peak force is an offset worth saying
+REST_OFFSET = 0.05
+
+
+def rest_offset_note(where: str, t: np.ndarray, d: np.ndarray, F: np.ndarray, names: dict) -> list[str]:
+    """A note when the record starts at rest (d within REST_TRAVEL of its
+    range for at least REST_S) with a mean force there of at least
+    REST_OFFSET of the peak force (median force at rest; the peak about
+    it): a load-cell offset or a preload the fit would take for the
+    damper's."""
+    span = float(np.ptp(d))
+    moving = np.flatnonzero(np.abs(d - d[0]) > REST_TRAVEL * span) if span > 0 else np.array([], int)
+    end = int(moving[0]) if moving.size else 0
+    if end < 2 or t[end] - t[0] < REST_S:
+        return []
+    offset = float(np.median(F[:end]))
+    peak = float(np.max(np.abs(F - offset)))  # the damper's own force, about the offset
+    if peak == 0.0 or abs(offset) < REST_OFFSET * peak:
+        return []
+    return [f"{where}: column '{names['F']}': the record starts with {t[end] - t[0]:.3g} s at rest with a force of "
+            f"{offset:.3g} kN ({abs(offset) / peak:.0%} of the peak force): a load-cell offset? leave the rest out "
+            f"with --window {t[end]:.3g},{t[-1]:.6g} (and check the zero of the force)"]
