@@ -123,14 +123,12 @@ def _next_lines(args, diag, paths: dict) -> list:
     best = diag.best
     if best is None or best.spec not in paths:
         return []
-    path = shlex.quote(paths[best.spec])
-    target = "opensees -o damper.py" if not best.exports["opensees"] else "fmu -o damper.fmu"
-    reading = " ".join(f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"
-                       for name in READ_OPTIONS if getattr(args, name, None) is not None)
-    plugins = " ".join(f"--plugin {shlex.quote(p)}" for p in args.plugin)
-    again = " ".join(x for x in ("fvd-bridge diagnose", shlex.quote(args.record), reading, plugins,
-                                 f"--law {best.spec}") if x)
-    return [f"fvd-bridge export {target.split()[0]} {path} {' '.join(target.split()[1:])}", again]
+    target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
+    reading = [f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"
+               for name in READ_OPTIONS if getattr(args, name, None) is not None]
+    plugins = [f"--plugin {shlex.quote(p)}" for p in args.plugin]
+    again = ["fvd-bridge diagnose", shlex.quote(args.record), *reading, *plugins, f"--law {best.spec}"]
+    return [f"fvd-bridge export {target} {shlex.quote(paths[best.spec])} -o {output}", " ".join(again)]
 
 
 def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
