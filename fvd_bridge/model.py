@@ -19,9 +19,6 @@ from .effects.compose import composed_force, inside_connection
 from .errors import InputError
 from .laws import Law
 
-#: the export targets a model may reach
-TARGETS = ("opensees", "fmu")
-
 
 @dataclass(frozen=True)
 class Model:
@@ -170,9 +167,10 @@ class Model:
     def fmu_refusal(self) -> str:
         """Why the FMU cannot carry this model ('' when it can)."""
         if not self.law.fmu:
-            return f"law {self.law.key} ({self.law.name}) has no C step form"
+            return f"law {self.law.key} ({self.law.name}) cannot go into the FMU (no C step form)"
         missing = [e for e in self.effects if not e.fmu]
-        return f"effect '{missing[0].name}' ({missing[0].source}) has no C step form" if missing else ""
+        return (f"effect '{missing[0].name}' ({missing[0].source}) cannot go into the FMU (no C step form)"
+                if missing else "")
 
     def exports(self, params: dict | None = None) -> dict:
         """{target: why not ('' when it exports)} for 'opensees' and 'fmu'."""

@@ -389,8 +389,7 @@ def test_a_new_law_appears_in_the_interface(monkeypatch):
     law = dataclasses.replace(LAWS[2], number=n, name="test law", equation="F = Q v^r",
                               parameters=(LawParameter("Q", "kN/(mm/s)", (0.0, 1.0), lambda s: (0.0, 1.0), "q"),
                                           LawParameter("r", "-", (0.0, 1.0), lambda s: (0.0, 1.0), "r")))
-    if hasattr(law, "fmu"):
-        law = dataclasses.replace(law, fmu=False)
+    law = dataclasses.replace(law, fmu=False)
     monkeypatch.setitem(LAWS, n, law)
     variables = {v.get("name"): v for v in generated_variables()}
     assert variables[f"law{n}.Q"].get("unit") == "kN/(mm/s)" and variables[f"law{n}.r"].get("unit") is None
@@ -400,11 +399,11 @@ def test_a_new_law_appears_in_the_interface(monkeypatch):
     table = {m.group(1): [x.strip() for x in m.group(2).split(",")]
              for m in re.finditer(r"#define (\w+)_VALUES \{ (.*?) \}", text)}
     assert table["LAW_FIRST_VR"][n] == f"vr_law{n}_Q" and table["LAW_N_PAR"][n] == "2"
-    if hasattr(law, "fmu"):
-        assert table["LAW_IN_FMU"][n] == "false"
-        model = dataclasses.replace(parse_model("2"), law=law)
-        with pytest.raises(InputError, match=f"law {n} \\(test law\\) has no C form"):
-            fmu_export.start_values(Calibration(model, np.array([0.5, 0.5]), of=0.0), 1e-3)
+    # the law the C does not carry is marked so, and refused with one line
+    assert table["LAW_IN_FMU"][n] == "false"
+    model = dataclasses.replace(parse_model("2"), law=law)
+    with pytest.raises(InputError, match=f"law {n} \\(test law\\) cannot go into the FMU"):
+        fmu_export.start_values(Calibration(model, np.array([0.5, 0.5]), of=0.0), 1e-3)
 
 
 def test_physics_files_mirror_the_python_step_forms():

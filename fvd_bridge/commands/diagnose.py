@@ -78,9 +78,10 @@ def run(args) -> int:
     if lad is not None:
         report["ladder"] = lad.as_dict()
     fits = _refits(diag, lad)
-    paths = {spec: os.path.join(args.out, "params", safe_name(record.name), spec_file(spec)) for spec in fits}
+    names = {spec: os.path.join("params", safe_name(record.name), spec_file(spec)) for spec in fits}
+    paths = {spec: os.path.join(args.out, name) for spec, name in names.items()}
     _hand_over(report, paths)
-    files = _write(args, record, diag, lad, report, fits)
+    files = _write(args, record, diag, lad, report, {names[spec]: fit for spec, fit in fits.items()})
     if args.json:
         print(json.dumps(report, indent=1))
     else:
@@ -132,14 +133,14 @@ def _next_lines(args, diag, paths: dict) -> list:
 
 
 def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
-    """The calibration files of what diagnose found (``_refits``), figures
-    and the JSON report, all or nothing (a staging directory)."""
+    """The calibration files of what diagnose found ({file name in OUT:
+    (model, fit)}, ``_refits``), figures and the JSON report, all or nothing
+    (a staging directory)."""
     base = safe_name(record.name)
     written = []
     settings = {"source": "diagnose", **report["settings"]}
     with staged_dir(args.out) as stage:
-        for spec, (model, fit) in fits.items():
-            name = os.path.join("params", safe_name(record.name), spec_file(spec))
+        for name, (model, fit) in fits.items():
             Calibration.from_fit(model, fit, record, settings).save(os.path.join(stage, name))
             written.append(name)
         with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:

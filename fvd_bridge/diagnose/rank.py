@@ -129,14 +129,15 @@ class Candidate:
         return self.model.exports(dict(zip(self.fit.names, self.fit.params)))
 
     def as_dict(self) -> dict:
+        exports = self.exports
         return {"effect": self.effect, "spec": self.spec, "of": self.of, "improvement": self.improvement,
                 "delta_bic": self.delta_bic, "significant": self.significant, "reason": self.reason,
                 "explanation": self.explanation, "size": self.size.text if self.size else "",
                 "detectable": bool(self.size.detectable) if self.size else True,
                 "plausible": bool(self.size.plausible) if self.size else True,
                 "of_effect_off": self.off_of, "held_out": self.held_out,
-                "exports": [target for target, why in self.exports.items() if not why],
-                "not_exported": {target: why for target, why in self.exports.items() if why},
+                "exports": [target for target, why in exports.items() if not why],
+                "not_exported": {target: why for target, why in exports.items() if why},
                 "params": {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}}
 
 

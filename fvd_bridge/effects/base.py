@@ -68,10 +68,6 @@ class Size:
     why: str = ""  # why not detectable / not plausible
 
 
-def _all_off(effect, values: np.ndarray) -> np.ndarray:
-    return np.all(values == np.asarray(effect.none, dtype=float), axis=1)
-
-
 @dataclass(frozen=True)
 class Effect:
     """One physical effect (see the module docstring for the stages).
@@ -129,7 +125,9 @@ class Effect:
     def off(self, values) -> np.ndarray:
         """Rows of ``values`` (pop, n_par) in which the effect is switched off."""
         values = np.atleast_2d(np.asarray(values, dtype=float))
-        return self.off_rule(values) if self.off_rule else _all_off(self, values)
+        if self.off_rule:
+            return self.off_rule(values)
+        return np.all(values == np.asarray(self.none, dtype=float), axis=1)
 
     def explanation(self) -> str:
         """'force lags the velocity at reversals: the fluid is compressible; add series_stiffness'."""

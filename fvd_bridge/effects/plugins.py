@@ -177,7 +177,8 @@ def load_plugins(paths) -> dict:
             raise InputError(f"--plugin {path}: EFFECTS is empty")
         for e in effects:
             if isinstance(e, Effect):
-                e = dataclasses.replace(e, source=os.path.basename(path))
+                # a plugin has no C step form and no OpenSees form: the registry says so
+                e = dataclasses.replace(e, source=os.path.basename(path), fmu=False, opensees=None)
             check_effect(e, path)
             if e.name in BUILTIN:
                 raise InputError(f"{path}: effect '{e.name}' clashes with the built-in effect of that name")

@@ -106,19 +106,17 @@ def start_values(calibration, h_max: float) -> dict:
     the effects' switches, the law's parameters as 'law<N>.<name>', the
     effects' as in the model ('friction.Ff'), h_max [s]."""
     model = calibration.model
-    for e in model.effects:
-        if EFFECTS.get(e.name) is not e or not getattr(e, "fmu", True):
-            raise InputError(f"model '{model.spec}': effect '{e.name}' ({e.source}) cannot go into the FMU, "
-                             f"which holds the built-in effects only ({', '.join(tuple(EFFECTS))})")
-    if not getattr(model.law, "fmu", True):
-        raise InputError(f"model '{model.spec}': law {model.law.number} ({model.law.name}) has no C form in "
-                         "the FMU (fmu/laws.c)")
+    why = model.fmu_refusal()
+    if why:
+        raise InputError(f"model '{model.spec}': {why}; the FMU holds the built-in effects "
+                         f"({', '.join(EFFECTS)}) and the laws with a C step form")
     number = model.law.number
     values = {"law": number, "h_max": h_max}
-    values.update({f"{name}.enabled": model.has(name) for name in tuple(EFFECTS)})
+    values.update({f"{name}.enabled": model.has(name) for name in EFFECTS})
+    off = dict(zip(model.names, model.off_values()))
     for name, x in calibration.named().items():
         key = _variable(number, name)
-        if not (math.isfinite(x) or (name == "series_stiffness.Ks" and x == math.inf)):
+        if not (math.isfinite(x) or x == off[name]):  # an infinite 'off' value: a rigid series spring
             raise InputError(f"model '{model.spec}': parameter '{name}' = {x}: not a finite number")
         values[key] = float(x)
     return values

@@ -30,7 +30,7 @@ import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 
-from ..effects.catalog import BUILTIN, KS_RIGID
+from ..effects.catalog import BUILTIN
 from ..laws import LAWS
 
 MODEL_IDENTIFIER = "fvd_damper"
@@ -91,11 +91,6 @@ def law_parameter_name(number: int, name: str) -> str:
     return f"law{number}.{name}"
 
 
-def _carried(entry) -> bool:
-    """Whether the FMU's C code carries a law or an effect (its ``fmu`` capability)."""
-    return bool(entry.fmu)
-
-
 def _law_reference(number: int, law) -> tuple:
     """Default start values of a law's parameters: its reference values (the
     golden files'), else the middle of its paper bounds."""
@@ -105,10 +100,12 @@ def _law_reference(number: int, law) -> tuple:
     return tuple(float(x) for x in ref)
 
 
-def _effect_off(x: float) -> float:
-    """Default start value of an effect parameter: its 'off' value; an
-    infinite one (a rigid series spring) as the catalog's rigid stiffness."""
-    return float(x) if math.isfinite(x) else float(KS_RIGID)
+def _effect_off(x: float, parameter) -> float:
+    """Default start value of an effect parameter: its 'off' value within the
+    parameter's bounds (an infinite one, a rigid series spring, as its
+    largest stiffness, which the composition counts as rigid)."""
+    lo, hi = parameter.paper
+    return float(min(max(x, lo), hi))
 
 
 def _unit(unit: str) -> str | None:
@@ -168,7 +165,7 @@ def variables() -> list:
     for e in the_effects:
         for p, name, off in zip(e.parameters, e.names, e.none):
             add(name, "Float64", "parameter", "fixed", _described(f"{e.name}: {p.description}", p.unit),
-                start=_effect_off(off), unit=_unit(p.unit))
+                start=_effect_off(off, p), unit=_unit(p.unit))
     return out
 
 
@@ -188,8 +185,8 @@ def config_header() -> str:
         if law.parameters:
             first[n] = by_name[law_parameter_name(n, law.parameters[0].name)].c_name
         n_par[n] = str(len(law.parameters))
-        carried[n] = "true" if _carried(law) else "false"
-        connection[n] = "true" if getattr(law, "connection", True) else "false"
+        carried[n] = "true" if law.fmu else "false"
+        connection[n] = "true" if law.connection else "false"
     effect_par = [name for e in the_effects for name in e.names]
     enum, kind = [], None
     for v in vs:
@@ -246,7 +243,7 @@ def config_header() -> str:
         _c_table("EFFECT_ENABLED_VR_VALUES", [by_name[f"{e.name}.enabled"].c_name for e in the_effects]),
         _c_table("EFFECT_PAR_VR_VALUES", [by_name[name].c_name for name in effect_par]),
         _c_table("EFFECT_OF_PAR_VALUES", [str(i) for i, e in enumerate(the_effects) for _ in e.names]),
-        _c_table("EFFECT_IN_FMU_VALUES", ["true" if _carried(e) else "false" for e in the_effects]),
+        _c_table("EFFECT_IN_FMU_VALUES", ["true" if e.fmu else "false" for e in the_effects]),
         "",
         '#include "calibration.h"',
         "",
