@@ -108,10 +108,18 @@ def _check(cal, export, record, args) -> int:
 
 
 def _fmu_check_record(cal, args):
-    """The record the FMU is checked on: --check, the calibration record, or the golden input."""
+    """The record the FMU is checked on: --check, the calibration record, or
+    the golden input (when the calibration record is gone, or cannot be
+    read without reading options the file does not keep: said on stderr)."""
     path = args.check or (cal.record or {}).get("file")
-    if path and (args.check or os.path.isfile(path)):
+    if args.check:
         return read_records([path], args)[0]
+    if path and os.path.isfile(path):
+        try:
+            return read_records([path], args)[0]
+        except InputError as exc:
+            print(f"warning: checked on the golden input: the calibration record needs its reading options "
+                  f"(give --check RECORD with them): {exc}", file=sys.stderr)
     t, d, v, a = reference_input()
     return golden_record({"t": t, "d": d, "v": v, "a": a})
 
