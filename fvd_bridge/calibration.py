@@ -2,11 +2,11 @@
 between identification and every exporter (OpenSees, FMU, frames, compare).
 
 This module owns the schema: ``Calibration.save`` writes it,
-``Calibration.load`` reads it (schema_version 2, and 1 as written by
+``Calibration.load`` reads it (schema_version 3; 2, and 1 as written by
 fvd_bridge 0.1) and refuses a malformed file with a one-line message naming
-the file and key.  Schema 2 (YAML; kN, mm, s)::
+the file and key.  Schema 3 (YAML; kN, mm, s)::
 
-    schema_version: 2
+    schema_version: 3
     kind: fvd_bridge.calibration
     fvd_bridge_version: '0.2.0'
     model: 2+friction                    # the spec: law number + effects
@@ -14,13 +14,18 @@ the file and key.  Schema 2 (YAML; kN, mm, s)::
     effects: [{name, equation}, ...]
     units: {force: kN, displacement: mm, time: s}
     parameters:                          # model order: the law's, then 'effect.param'
-      C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs}
+      C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs,
+          per_test: {TEST: value}}        # per_test: only a parameter fitted per test
     derived:                             # quantities of the parameters (law 8: mu*N)
       mu*N: {value, unit, description}
-    of: 0.0123                           # eq. 18 on the calibration record
+    of: 0.0123                           # eq. 18 (a device's tests: their weighted mean)
     of_mean_over_runs, of_sigma_over_runs
-    record:                              # provenance of the calibration record
-      name, file, format, samples, dt [s], columns {t, d, F[, v]},
+    device: NAME                         # the device the tests belong to
+    tests:                               # every test fitted (one for a single record)
+      - {name, weight, of, range: {d [mm], v [mm/s], f [Hz]}, record: {...as below}}
+    tested_range: {d [mm], v [mm/s], F [kN], f: [lo, hi] [Hz]}   # envelope of the tests
+    record:                              # provenance of the (first) calibration record
+      name, file, format, samples, dt [s], columns {t, d, F[, v]}, window,
       source_units {t, d, F[, v]}, velocity {method, ...}, peaks {F [kN], v [mm/s], d [mm]}
     settings: {...}                      # optimizer, bounds, seed, plugins, ...
     warnings: [...]
@@ -37,10 +42,12 @@ import yaml
 from . import __version__
 from .catalog import catalog as load_catalog
 from .errors import InputError
+from .fit.layout import SEP, Layout
 from .io.staging import atomic_file
+from .records.device import as_device, tested_range
 
-SCHEMA_VERSION = 2
-READABLE_SCHEMAS = (1, 2)
+SCHEMA_VERSION = 3
+READABLE_SCHEMAS = (1, 2, 3)
 KIND = "fvd_bridge.calibration"
 UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
 
@@ -64,6 +71,8 @@ class Calibration:
     warnings: list = field(default_factory=list)
     runs: dict = field(default_factory=dict)  # of_mean, of_sigma, p_mean, p_sigma over runs
     path: str | None = None  # the file it was read from
+    tests: list = field(default_factory=list)  # per test: name, weight, of, range, record, parameters
+    device: str = ""
 
     @property
     def spec(self) -> str:
@@ -77,29 +86,78 @@ class Calibration:
         """{name: (value, unit)}: law 8's slip force mu*N [kN]."""
         return self.model.derived(self.params)
 
-    def beyond_tested(self, record, margin: float = TESTED_MARGIN) -> list[str]:
-        """What of ``record``'s motion goes beyond the calibration record's
-        (peak stroke d [mm], peak velocity v [mm/s], more than ``margin``
-        above them): the model is then an extrapolation. One line each."""
+    @property
+    def tested(self) -> dict:
+        """The tested range: peak stroke d [mm], velocity v [mm/s], force F [kN]
+        over every test, and the tests' frequencies f [lo, hi] [Hz] (None: unknown)."""
+        ranges = [t.get("range") or {} for t in self.tests]
         peaks = (self.record or {}).get("peaks") or {}
-        mine = record.scales()
-        out = []
-        for key, what, unit in (("d", "stroke", "mm"), ("v", "velocity", "mm/s")):
-            ref = peaks.get(key)
-            if ref and mine[key] > (1.0 + margin) * ref:
-                out.append(f"{record.name}: peak {what} {mine[key]:.4g} {unit} is beyond the {ref:.4g} {unit} "
-                           f"the model was calibrated on ({self.record.get('name', 'its record')}): an extrapolation")
+        out = {k: max([r[k] for r in ranges if r.get(k)] + [peaks.get(k) or 0.0]) or None for k in ("d", "v")}
+        out["F"] = max([(t.get("record") or {}).get("peaks", {}).get("F") or 0.0 for t in self.tests]
+                       + [peaks.get("F") or 0.0]) or None
+        f = [r["f"] for r in ranges if r.get("f")]
+        out["f"] = [min(f), max(f)] if f else None
         return out
 
-    def force(self, record, substeps: int = 1) -> np.ndarray:
-        """The calibrated model's force [kN] on ``record`` (n_t,)."""
-        return self.model.force(record, self.params[None, :], substeps)[0]
+    def beyond_tested(self, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
+        """What of a motion goes beyond the tested range (peak stroke d [mm],
+        peak velocity v [mm/s] more than ``margin`` above the tests', or a
+        dominant frequency outside the tests' by more than ``margin``): the
+        model is then an extrapolation. ``motion``: a Record, or a dict
+        {d, v[, f]} of peaks (``what_of`` names it).  One line each."""
+        if isinstance(motion, dict):
+            name, mine = what_of or "the motion", motion
+        else:
+            name, mine = motion.name, tested_range(motion)
+        ref, where = self.tested, self.device or (self.record or {}).get("name", "its record")
+        out = []
+        for key, what, unit in (("d", "stroke", "mm"), ("v", "velocity", "mm/s")):
+            if ref.get(key) and mine.get(key) and mine[key] > (1.0 + margin) * ref[key]:
+                out.append(f"{name}: peak {what} {mine[key]:.4g} {unit} is beyond the {ref[key]:.4g} {unit} "
+                           f"the model was calibrated on ({where}): an extrapolation")
+        f, (lo, hi) = mine.get("f"), ref.get("f") or (None, None)
+        if f and lo and not (1.0 - margin) * lo <= f <= (1.0 + margin) * hi:
+            out.append(f"{name}: dominant frequency {f:.3g} Hz is outside the {lo:.3g}-{hi:.3g} Hz the model was "
+                       f"calibrated on ({where}): an extrapolation")
+        return out
+
+    def params_for(self, test: str) -> np.ndarray:
+        """The parameter vector on one test (parameters fitted per test take that test's value)."""
+        names = [t["name"] for t in self.tests]
+        if test not in names:
+            raise InputError(f"--test {test}: the calibration has tests {', '.join(names)}")
+        values = {**self.named(), **(self.tests[names.index(test)].get("parameters") or {})}
+        return np.array([values[n] for n in self.model.names], dtype=float)
+
+    def force(self, record, substeps: int = 1, test: str | None = None) -> np.ndarray:
+        """The calibrated model's force [kN] on ``record`` (n_t,), with the
+        parameters of test ``test`` (None: the file's values, the first test's)."""
+        p = self.params if test is None else self.params_for(test)
+        return self.model.force(record, p[None, :], substeps)[0]
 
     @classmethod
     def from_fit(cls, model, fit, record, settings: dict | None = None, warnings=(), runs: dict | None = None):
-        """From a FitResult of ``model`` on ``record`` (fvd_bridge.records.Record)."""
-        return cls(model, np.asarray(fit.params, dtype=float), float(fit.of), np.asarray(fit.bounds, dtype=float),
-                   record_provenance(record), dict(settings or {}), list(warnings), dict(runs or {}))
+        """From a FitResult of ``model`` on ``record`` (a Record, or a Device:
+        its tests); the model's vector holds the first test's values, a
+        parameter fitted per test keeps each test's value in ``tests``."""
+        device = as_device(record)
+        n = len(model.names)
+        per_test = {name.split(SEP)[0] for name in fit.names[n:]}
+        layout = Layout(model, tuple(device.test_names), tuple(sorted(per_test, key=model.names.index)))
+        test_of = fit.test_of or [float(fit.of)]
+        tests = []
+        for k, (test, w) in enumerate(zip(device.tests, device.weights)):
+            p = np.asarray(fit.params, dtype=float)[layout.columns(k)]
+            tests.append({"name": test.name, "weight": float(w), "of": float(test_of[k]),
+                          "range": tested_range(test), "record": record_provenance(test),
+                          "parameters": {m: float(p[model.names.index(m)]) for m in layout.free}})
+        runs = dict(runs or {})
+        for key in ("p_mean", "p_sigma"):
+            if key in runs:
+                runs[key] = np.asarray(runs[key])[:n]
+        return cls(model, np.asarray(fit.params, dtype=float)[:n], float(fit.of),
+                   np.asarray(fit.bounds, dtype=float)[:n], record_provenance(device.tests[0]),
+                   dict(settings or {}), list(warnings), runs, None, tests, device.name)
 
     def to_dict(self) -> dict:
         """The schema-2 mapping (see the module docstring)."""
@@ -118,7 +176,9 @@ class Calibration:
             "units": dict(UNITS),
             "parameters": {
                 n: {"value": float(v), "unit": u, "bounds": [_num(lo), _num(hi)],
-                    "mean_over_runs": float(m), "sigma_over_runs": float(s)}
+                    "mean_over_runs": float(m), "sigma_over_runs": float(s),
+                    **({"per_test": {t["name"]: t["parameters"][n] for t in self.tests}}
+                       if any(n in (t.get("parameters") or {}) for t in self.tests) else {})}
                 for n, u, v, (lo, hi), m, s in zip(self.model.names, self.model.units, self.params, bounds,
                                                    p_mean, p_sigma)},
             "derived": {name: {"value": value, "unit": unit, "description": derived_info[name]}
@@ -126,6 +186,9 @@ class Calibration:
             "of": float(self.of),
             "of_mean_over_runs": float(self.runs.get("of_mean", self.of)),
             "of_sigma_over_runs": float(self.runs.get("of_sigma", 0.0)),
+            "device": self.device or self.record.get("name"),
+            "tests": _plain(self.tests),
+            "tested_range": _plain(self.tested),
             "record": _plain(self.record),
             "settings": _plain(self.settings),
             "warnings": [str(w) for w in self.warnings],
@@ -162,8 +225,13 @@ class Calibration:
             record.setdefault("source_units", None)
         runs = {"of_mean": data.get("of_mean_over_runs", of), "of_sigma": data.get("of_sigma_over_runs", 0.0),
                 "p_mean": means, "p_sigma": sigmas}
+        tests = data.get("tests") or [{"name": record.get("name"), "weight": 1.0, "of": of, "record": record,
+                                       "range": {k: (record.get("peaks") or {}).get(k) for k in ("d", "v")},
+                                       "parameters": {}}]
+        if not isinstance(tests, list) or not all(isinstance(t, dict) and "name" in t for t in tests):
+            raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
         return cls(model, values, of, bounds, record, dict(settings), list(data.get("warnings") or []), runs,
-                   os.path.abspath(path))
+                   os.path.abspath(path), tests, str(data.get("device") or record.get("name") or ""))
 
 
 def record_provenance(record) -> dict:

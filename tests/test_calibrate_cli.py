@@ -34,7 +34,7 @@ def test_calibrate_writes_every_output(two_devices, tmp_path):
     for dev in ("dev_a", "dev_b"):
         for law in (1, 2, 9):
             p = yaml.safe_load(open(out / "params" / dev / f"law{law}.yaml"))
-            assert p["schema_version"] == 2 and p["model"] == str(law)
+            assert p["schema_version"] == 3 and p["model"] == str(law)
             assert set(p["parameters"]) == {1: {"C"}, 2: {"C", "alpha"}, 9: {"C", "alpha", "beta"}}[law]
             assert p["units"] == {"force": "kN", "displacement": "mm", "time": "s"}
             assert p["settings"]["runs"] == 2 and p["record"]["name"] == dev

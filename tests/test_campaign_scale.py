@@ -79,7 +79,7 @@ def test_uninterrupted_run_writes_calibrate_outputs_and_production_tables(refere
     assert f"units: {UNITS} (0 resumed" in res.stdout and "Pareto set" in res.stdout
     assert list(sessions(out).values()) == [UNITS] and len(unit_files(out)) == UNITS
     for dev in ("device_01", "device_04"):
-        assert yaml.safe_load(open(out / "params" / dev / "law9.yaml"))["schema_version"] == 2
+        assert yaml.safe_load(open(out / "params" / dev / "law9.yaml"))["schema_version"] == 3
     acc = (out / "acceptance.csv").read_text().splitlines()
     assert acc[0].startswith("model,device,F_tension_kN") and len(acc) == 1 + 2 * 4
     assert "rig nominal device" in res.stdout and (out / "records" / "truth.yaml").exists()

@@ -89,7 +89,7 @@ def test_calibration_keeps_provenance_and_round_trips(lab_csv, tmp_path):
     assert back.record["columns"] == {"t": "time", "d": "disp", "F": "load"}
     assert back.record["velocity"]["method"] == "savgol" and back.record["samples"] == rec.n
     raw = yaml.safe_load(open(path))
-    assert raw["schema_version"] == 2 and raw["derived"]["mu*N"]["unit"] == "kN"
+    assert raw["schema_version"] == 3 and raw["derived"]["mu*N"]["unit"] == "kN"
     assert raw["derived"]["mu*N"]["value"] == pytest.approx(cal.named()["mu"] * cal.named()["N"])
     assert any("mu*N" in w for w in back.warnings)
     # the file alone reproduces its OF on the record

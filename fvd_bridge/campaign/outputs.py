@@ -22,6 +22,7 @@ import numpy as np
 from .. import __version__
 from ..calibration import Calibration
 from ..io.staging import staged_dir, write_csv_rows, write_json
+from ..records.device import as_device
 from . import stats
 from .checks import fit_warnings
 
@@ -54,7 +55,10 @@ def summarize(records, results: dict, cs) -> dict:
         near_zero = stats.near_zero(p_mean, ranges, per_dev[0][0].log)
         delta = stats.deltas(p_mean, near_zero)
         delta_n, beta = stats.robustness(p_mean, near_zero)
+        tests = [[r.test_of or [r.of] for r in runs] for runs in per_dev]  # (dev, run, test)
         models[spec] = {
+            "test_names": [runs[0].tests or [dev] for dev, runs in zip(devices, per_dev)],
+            "test_of": [(np.mean(t, axis=0), np.std(t, axis=0)) for t in tests],
             "names": names, "units": units, "near_zero": near_zero,
             "notes": [_near_zero_note(n, u, p_mean[:, j].mean(), ranges[j])
                       for j, (n, u) in enumerate(zip(names, units)) if near_zero[j]],
@@ -140,8 +144,9 @@ def _summary_json(records, results, summary, cs) -> dict:
         "schema_version": SCHEMA_VERSION,
         "fvd_bridge_version": __version__,
         "settings": cs.as_dict(),
-        "devices": [{"name": r.name, "file": r.provenance.get("file"), "samples": r.n, "dt": r.dt,
-                     "peak_force_kN": float(np.max(np.abs(r.F)))} for r in records],
+        "devices": [{"name": dev.name, "tests": [{"name": r.name, "file": r.provenance.get("file"), "samples": r.n,
+                                                  "dt": r.dt, "peak_force_kN": float(np.max(np.abs(r.F)))}
+                                                 for r in as_device(dev).tests]} for dev in records],
         "models": {spec: {"of_mean": m["of_overall"], "beta": _num(m["beta"]),
                           "non_dominated": m["non_dominated"], "notes": m["notes"],
                           "warnings": {d: m["warnings"][d] for d in summary["devices"]}}
@@ -159,14 +164,15 @@ def _figures(stage, records, summary, cs):
     fig_dir = os.path.join(stage, "figures")
     os.makedirs(fig_dir, exist_ok=True)
     specs, devices = list(cs.specs), summary["devices"]
-    for rec in records:
+    for dev in records:
+        tests = as_device(dev).tests
         for spec in specs:
-            m = summary["models"][spec]
-            best = m["best"][rec.name]
-            model = cs.model(spec)
-            F = model.force(rec, best.params[None, :])[0]
-            plots.loops(rec, F, f"{rec.name}, law {spec}: OF {best.of:.4f}",
-                        os.path.join(fig_dir, f"loops_{rec.name}_law{spec}.png"))
+            best = summary["models"][spec]["best"][dev.name]
+            cal = Calibration.from_fit(cs.model(spec), best, dev)
+            for k, rec in enumerate(tests):
+                name = rec.name if len(tests) == 1 else f"{dev.name}_{rec.name}"
+                plots.loops(rec, cal.force(rec, test=rec.name), f"{name}, law {spec}: OF {cal.tests[k]['of']:.4f}",
+                            os.path.join(fig_dir, f"loops_{name}_law{spec}.png"))
     M = summary["models"]
     plots.of_bars(specs, devices, np.array([M[s]["of_mean"] for s in specs]),
                   np.array([M[s]["of_sigma"] for s in specs]), os.path.join(fig_dir, "of_bars.png"))

@@ -16,19 +16,21 @@ def format_report(summary: dict) -> str:
     devices = summary["devices"]
     models = summary["models"]
     labels = [f"law {spec}" for spec in models]
-    quantities = ["OF"] + [f"{n} [{u}]" for m in models.values() for n, u in zip(m["names"], m["units"])]
+    quantities = (["OF"] + [f"{n} [{u}]" for m in models.values() for n, u in zip(m["names"], m["units"])]
+                  + [row[0] for m in models.values() for row in _test_rows(m, len(devices))])
     w_model, w_q = _width(labels, 5) + GAP, _width(quantities, 8) + GAP
     w_cell = max(_width(devices), 23) + GAP  # '   1.234e+05 ( 1.2e+03)'
     lines = ["", "Mean (sigma) over runs of OF and parameters (cf. paper Table A.7)", ""]
     head = f"{'model':<{w_model}}{'quantity':<{w_q}}" + "".join(f"{d:>{w_cell}}" for d in devices)
     lines += [head, "-" * len(head)]
     for spec, m in models.items():
-        rows = [("OF", m["of_mean"], m["of_sigma"])]
+        rows = [("OF", m["of_mean"], m["of_sigma"])] + _test_rows(m, len(devices))
         rows += [(f"{n} [{u}]", m["p_mean"][:, j], m["p_sigma"][:, j])
                  for j, (n, u) in enumerate(zip(m["names"], m["units"]))]
         for k, (q, mean, sigma) in enumerate(rows):
             label = f"law {spec}" if k == 0 else ""
-            cells = "".join(f"{f'{mean[i]:.4g} ({sigma[i]:.2g})':>{w_cell}}" for i in range(len(devices)))
+            cells = "".join(f"{f'{mean[i]:.4g} ({sigma[i]:.2g})' if mean[i] is not None else '':>{w_cell}}"
+                            for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
     lines += [""] + _pareto_lines(models, w_model, len(devices))
     warn = [(spec, dev, w["message"]) for spec, m in models.items()
@@ -37,6 +39,20 @@ def format_report(summary: dict) -> str:
         lines += ["", "Warnings:"]
         lines += [f"  law {spec}, {dev}: {msg}" for spec, dev, msg in warn]
     return "\n".join(lines)
+
+
+def _test_rows(m: dict, n_devices: int) -> list:
+    """Rows of the OF on each test, for devices identified from several tests."""
+    n_tests = max((len(names) for names in m.get("test_names", [])), default=1)
+    if n_tests < 2:
+        return []
+    rows = []
+    for k in range(n_tests):
+        label = f"  OF {m['test_names'][0][k]}" if n_devices == 1 else f"  OF test {k + 1}"
+        mean = [m["test_of"][i][0][k] if k < len(m["test_names"][i]) else None for i in range(n_devices)]
+        sigma = [m["test_of"][i][1][k] if k < len(m["test_names"][i]) else None for i in range(n_devices)]
+        rows.append((label, mean, sigma))
+    return rows
 
 
 def _pareto_lines(models: dict, w_model: int, n_devices: int) -> list:

@@ -27,6 +27,8 @@ class CampaignSettings:
     jobs: int = 0  # 0: one process per core
     plugins: tuple = field(default_factory=tuple)  # plugin file paths
     bound_overrides: tuple = field(default_factory=tuple)  # (spec or None, name, lower, upper)
+    per_test: tuple = field(default_factory=tuple)  # (spec or None, name): parameters fitted per test
+    start: tuple | None = None  # (spec, names, values) of a calibration file to start from
 
     @property
     def catalog(self):
@@ -41,12 +43,30 @@ class CampaignSettings:
         """{name: (lower, upper)} of the --bound options that apply to ``spec``."""
         return {name: (lo, hi) for s, name, lo, hi in self.bound_overrides if s in (None, spec)}
 
+    def per_test_for(self, spec: str) -> tuple:
+        """The --per-test parameters that apply to ``spec``."""
+        names = self.model(spec).names
+        return tuple(dict.fromkeys(n for s, n in self.per_test if s in (None, spec) and n in names))
+
+    def start_for(self, spec: str) -> tuple | None:
+        """(names, values) of the --start calibration when ``spec``'s model
+        extends it (same law, its effects among the model's), else None."""
+        if self.start is None:
+            return None
+        given, model = self.model(self.start[0]), self.model(spec)
+        if given.law is not model.law or not set(given.effect_names) <= set(model.effect_names):
+            return None
+        return self.start[1], self.start[2]
+
     def as_dict(self) -> dict:
         s = settings_for(self.optimizer, self.pop, self.gens, self.stall)
         return {"specs": list(self.specs), "runs": self.runs, "bounds": self.bounds,
                 "optimizer": self.optimizer, "seed": self.seed, "optimizer_settings": vars(s),
                 "plugins": list(self.plugins),
-                "bound_overrides": [list(o) for o in self.bound_overrides]}
+                "bound_overrides": [list(o) for o in self.bound_overrides],
+                "per_test": [list(o) for o in self.per_test],
+                "start": None if self.start is None else {"model": self.start[0],
+                                                          "values": dict(zip(self.start[1], self.start[2]))}}
 
 
 def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=None) -> dict:

@@ -34,6 +34,7 @@ except ImportError:  # no flock (Windows): no protection against two runs at onc
     fcntl = None
 
 from ..errors import InputError
+from ..records.device import as_device
 from ..fit import FitResult
 
 #: format of the unit files and campaign.json
@@ -80,13 +81,16 @@ def result_from_dict(d: dict) -> FitResult:
                      bounds_mode=d["bounds_mode"], optimizer=d["optimizer"], seed=d["seed"],
                      evaluations=int(d["evaluations"]), history=[float(h) for h in d["history"]],
                      wall_s=float(d["wall_s"]), record=d["record"], log=[bool(x) for x in d["log"]],
-                     off=list(d["off"]))
+                     off=list(d["off"]), tests=list(d.get("tests") or []),
+                     test_of=[float(x) for x in d.get("test_of") or []],
+                     widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()})
 
 
 def record_digest(rec) -> str:
-    """sha256 of a record's name and samples (t, d, F, v): what a unit was fitted to."""
+    """sha256 of a record's (or a device's) name and samples (t, d, F, v of
+    each test): what a unit was fitted to."""
     h = hashlib.sha256(rec.name.encode())
-    for x in (rec.t, rec.d, rec.F, rec.v):
+    for x in (a for test in as_device(rec).tests for a in (test.t, test.d, test.F, test.v)):
         h.update(np.ascontiguousarray(x, dtype="<f8").tobytes())
     return h.hexdigest()
 

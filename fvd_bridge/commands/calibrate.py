@@ -9,21 +9,29 @@ import yaml
 
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
+from ..calibration import Calibration
 from ..campaign.runner import CampaignSettings, run_campaign
 from ..catalog import catalog as load_catalog
 from ..errors import InputError
 from ..fit import OPTIMIZERS, settings_for
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
+from ..records.device import Device
 from .common import add_record_options, read_records
 
 
 def add_parser(sub):
-    p = sub.add_parser("calibrate", help="fit laws to test records (one record per device)",
-                       description="Fit laws or models (LAW+EFFECT...) to every record, one record per device, "
-                                   "over several seeded runs; write the calibrated parameter files (the "
-                                   "exporters' input), Table A.7, the robustness index, the Pareto front and "
-                                   "figures into --out.")
-    p.add_argument("records", nargs="+", metavar="RECORD", help="CSV or .mat test records, one per device")
+    p = sub.add_parser("calibrate", help="fit laws to test records (one record per device, or tests of one device)",
+                       description="Fit laws or models (LAW+EFFECT...) to every record, one record per device "
+                                   "(or every record a test of one device: --device), over several seeded runs; "
+                                   "write the calibrated parameter files (the exporters' input), Table A.7, the "
+                                   "robustness index, the Pareto front and figures into --out.")
+    p.add_argument("records", nargs="+", metavar="RECORD",
+                   help="CSV or .mat test records, one per device (with --device: the tests of that device)")
+    p.add_argument("--device", metavar="NAME",
+                   help="the records are tests of one device NAME: one parameter set fitted to all of them, "
+                        "the objective the mean of the tests' OFs")
+    p.add_argument("--test-weights", metavar="W1,W2,..",
+                   help="with --device: the tests' weights in the objective (default equal)")
     add_campaign_options(p)
     add_record_options(p)
     p.set_defaults(func=run, _defaults={a.dest: a.default for a in p._actions})
@@ -52,6 +60,12 @@ def add_campaign_options(p):
     p.add_argument("--stall", type=int, help="GA: stop after this many generations without improvement (20)")
     p.add_argument("--jobs", type=int, default=0, help="processes (default: one per core)")
     p.add_argument("--plugin", action="append", default=[], help="Python file defining extra effects")
+    p.add_argument("--per-test", action="append", default=[], metavar="[LAW:]NAME",
+                   help="with several tests of a device: fit this parameter per test (the rest shared), "
+                        "e.g. --per-test 9:beta or --per-test friction.Ff (repeatable)")
+    p.add_argument("--start", metavar="CALIBRATION.yaml",
+                   help="start every model that extends this calibration's model (same law, its effects "
+                        "among the model's) from its parameters; the fit ends no worse than them")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -154,10 +168,51 @@ def campaign_settings(args) -> CampaignSettings:
         if not any(name in cat.model(t).names for t in targets):
             raise InputError(f"{given}: {'model ' + spec if spec else 'no model'} has no parameter "
                              f"'{name}' (has: {', '.join(cat.model(targets[0]).names)})")
+    per_test = tuple(parse_per_test(text, specs, cat) for text in args.per_test)
+    start = None
+    if args.start:
+        given = Calibration.load(args.start, cat)
+        start = (given.spec, tuple(given.model.names), tuple(float(x) for x in given.params))
+        if not any(cat.model(s).law is given.model.law and set(given.model.effect_names) <= set(cat.model(s).effect_names)
+                   for s in specs):
+            raise InputError(f"--start {args.start}: no model of --laws {args.laws} extends its model {given.spec} "
+                             f"(same law, its effects among the model's)")
     return CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
                             optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
                             stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
-                            bound_overrides=overrides)
+                            bound_overrides=overrides, per_test=per_test, start=start)
+
+
+def parse_per_test(text: str, specs, catalog) -> tuple:
+    """'[SPEC:]NAME' -> (spec or None, name), checked against the models."""
+    spec, _, name = str(text).rpartition(":")
+    spec = spec or None
+    if spec and spec not in specs:
+        raise InputError(f"--per-test {text}: law {spec} is not among the models ({', '.join(specs)})")
+    targets = [spec] if spec else list(specs)
+    if not name or not any(name in catalog.model(t).names for t in targets):
+        raise InputError(f"--per-test {text}: {'model ' + spec if spec else 'no model'} has no parameter "
+                         f"'{name}' (has: {', '.join(catalog.model(targets[0]).names)})")
+    return (spec, name)
+
+
+def group_device(records, args):
+    """--device NAME: the records as the tests of one device (weights from
+    --test-weights); without it, each record its own device."""
+    if not args.device:
+        if args.test_weights or args.per_test:
+            raise InputError(f"{'--test-weights' if args.test_weights else '--per-test'} needs --device NAME "
+                             f"(the records as tests of one device)")
+        return records
+    weights = None
+    if args.test_weights:
+        try:
+            weights = [float(w) for w in str(args.test_weights).split(",")]
+        except ValueError:
+            raise InputError(f"--test-weights {args.test_weights}: expected numbers separated by commas") from None
+        if len(weights) != len(records):
+            raise InputError(f"--test-weights {args.test_weights}: {len(weights)} weights for {len(records)} tests")
+    return [Device(args.device, list(records), weights)]
 
 
 def unique_names(records):
@@ -178,7 +233,9 @@ def run(args) -> int:
     for r in records:
         for w in r.warnings:
             print(f"warning: {w}", file=sys.stderr)
-    print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s) x {cs.runs} run(s), "
+    records = group_device(records, args)
+    tests = f" ({len(records[0].tests)} tests)" if args.device else ""
+    print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)
     results = run_campaign(records, cs, progress=not args.quiet)
     summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures)

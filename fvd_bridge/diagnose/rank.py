@@ -28,9 +28,9 @@ held-out cycles (``heldout.py``).
 
 Each refit is a real fit (fit_model, seeded) of the model with the effect,
 whose first population holds the nested start (the base parameters with the
-effect switched off, which reproduces the base model exactly); should it
-still end above the nested start, the nested start is kept, so that adding
-an effect never makes the fit worse.
+effect switched off, which reproduces the base model exactly; fit.nested);
+should it still end above the nested start, the nested start is kept, so
+that adding an effect never makes the fit worse.
 """
 
 from __future__ import annotations
@@ -42,6 +42,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..fit import evaluate_params, fit_model
+from ..fit.layout import Layout
+from ..fit.nested import nested_start
 from . import sizes
 from .heldout import BaseFolds, held_out
 from .where import effective_samples
@@ -55,38 +57,6 @@ INPUT_SHARE = 0.4
 def floor_uncertainty(floor: float, n: int) -> float:
     """Uncertainty of the noise-floor OF estimated from N samples (see module doc)."""
     return float(floor * max(1.7 / math.sqrt(max(n, 1)), 0.02))
-
-
-def nested_start(model, base_model, base_params, scales) -> np.ndarray:
-    """Parameters of ``model`` that reproduce ``base_model`` at ``base_params``:
-    the shared parameters copied, each added effect at its 'no effect' values
-    (clipped into its bounds: an infinite stiffness is the upper bound)."""
-    known = dict(zip(base_model.names, base_params))
-    out = []
-    for e in [None] + list(model.effects):
-        if e is None:
-            out.extend(known[n] for n in model.law.names)
-            continue
-        b = e.bounds(scales)
-        for name, none, (lo, hi) in zip(e.names, e.none, b):
-            out.append(known[name] if name in known else float(np.clip(none, lo, hi)))
-    return np.asarray(out, dtype=float)
-
-
-def refit(model, record, seed: int, settings, start: np.ndarray | None = None):
-    """fit_model (DE + polish, seeded) with ``start`` (the nested start: the
-    model without the effect) in the first population; should it still end
-    above ``start``'s OF, ``start`` is the result, so that adding an effect
-    never makes the fit worse."""
-    fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start)
-    if start is None:
-        return fit
-    start = np.clip(start, fit.bounds[:, 0], fit.bounds[:, 1])
-    of0 = evaluate_params(model, record, start)
-    if of0 < fit.of:
-        fit.params, fit.of = start, of0
-        fit.evaluations += 1
-    return fit
 
 
 def switched_off(model, params, effect, scales) -> np.ndarray:
@@ -191,9 +161,10 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
             out.append(old)
             continue
         model = base_model.with_effect(e)
-        start = nested_start(model, base_model, base_fit.params, scales)
+        start = nested_start(model, Layout(model, (record.name,)), base_fit.names, base_fit.params, scales)
         t0 = time.perf_counter()
-        fit = refit(model, record, seed, settings, start)
+        fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
+                        overrides=base_fit.widened)
         cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0)
         cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, e, scales))
         out.append(cand)

@@ -1,4 +1,4 @@
-"""fit_model: one model, one record, one seeded optimizer run."""
+"""fit_model: one model, one record or one device's tests, one seeded optimizer run."""
 
 from __future__ import annotations
 
@@ -7,8 +7,11 @@ import time
 import numpy as np
 
 from ..errors import InputError
+from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
+from .layout import Layout
+from .nested import WIDEN_ROUNDS, nested_start, wider_bounds
 from .objective import objective
 from .result import FitResult
 from .space import Space
@@ -28,38 +31,79 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
     return DESettings(popsize=pop or base.popsize, gens=gens or base.gens)
 
 
-def apply_overrides(model, bounds: np.ndarray, overrides: dict) -> np.ndarray:
-    """Replace the bounds of named parameters; unknown names and empty ranges are input errors."""
+def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict) -> np.ndarray:
+    """Replace the bounds of named parameters (and of their per-test columns
+    'NAME@TEST'); unknown names and empty ranges are input errors."""
     b = bounds.copy()
     for name, (lo, hi) in overrides.items():
-        if name not in model.names:
-            raise InputError(f"--bound {name}: model {model.spec} has no parameter '{name}' "
-                             f"(has: {', '.join(model.names)})")
+        cols = [k for k, n in enumerate(names) if n == name or n.startswith(name + "@")]
+        if not cols:
+            raise InputError(f"--bound {name}: model {spec} has no parameter '{name}' (has: {', '.join(names)})")
         if not lo < hi:
             raise InputError(f"--bound {name}={lo:g},{hi:g}: the lower bound must be below the upper")
-        b[model.names.index(name)] = (lo, hi)
+        b[cols] = (lo, hi)
     return b
 
 
 def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
               seed=0, settings=None, substeps: int = 1, on_generation=None,
               overrides: dict | None = None, start: np.ndarray | None = None,
-              mask: np.ndarray | None = None) -> FitResult:
-    """Fit ``model`` (fvd_bridge.model.Model) to ``record`` by minimising eq. 18.
+              mask=None, per_test=(), nested: bool = True, widen: bool = True) -> FitResult:
+    """Fit ``model`` (fvd_bridge.model.Model) to ``record`` (a Record, or a
+    Device: its tests together, the weighted mean of their OFs) by minimising eq. 18.
 
     ``bounds``: 'auto', 'paper' or an (n_par, 2) array; ``overrides`` maps
-    parameter names to (lower, upper) replacing those bounds.  The same seed gives
-    the same result (``seed``: an int or a list of ints, as numpy's default_rng takes).  ``on_generation(gen, best_of)`` reports progress.
+    parameter names to (lower, upper) replacing those bounds.  The same seed
+    gives the same result (``seed``: an int or a list of ints, as numpy's
+    default_rng takes).  ``on_generation(gen, best_of)`` reports progress.
     ``start``: parameters put into DE's first population (clipped into the
-    bounds; the fit ends no worse than them).  ``mask``: fit the OF of those
-    samples only (boolean (n_t,); the model still runs over the whole record).
+    bounds; the fit ends no worse than them).  Without a start, a fit with
+    parameters per test first fits them shared, and a model with effects
+    first fits the model without its last effect, and starts from there
+    (``nested``; ``fit.nested``).  ``widen``: automatic bounds a law
+    parameter ends on widen and the fit repeats.  ``mask``: fit the OF of
+    those samples only (boolean (n_t,), or one per test; the model still
+    runs over the whole record).  ``per_test``: parameters fitted per test.
     """
-    mode, b, space, evaluate = _problem(model, record, bounds, overrides, mask, substeps)
+    device = as_device(record)
+    layout = Layout(model, tuple(device.test_names), tuple(per_test))
     settings = settings or settings_for(optimizer)
+    overrides = dict(overrides or {})
+    t0, evals, widened = time.perf_counter(), 0, {}
+    if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
+        pfit = fit_model(model, device, bounds, optimizer, seed, settings, substeps, None, overrides, None, mask,
+                         (), True, widen)
+        start = layout.expand(dict(zip(pfit.names, pfit.params)))
+        evals, widened = pfit.evaluations, dict(pfit.widened)
+    elif start is None and nested and model.effects:
+        parent = model.without_effect(model.effects[-1].name)
+        pfit = fit_model(parent, device, bounds, optimizer, seed, settings, substeps, None,
+                         {k: v for k, v in overrides.items() if k in parent.names}, None, mask,
+                         [n for n in per_test if n in parent.names], True, widen)
+        start = nested_start(model, layout, pfit.names, pfit.params, device.scales())
+        evals, widened = pfit.evaluations, dict(pfit.widened)
+    for rounds in range(WIDEN_ROUNDS + 1):
+        fit = _fit_once(model, device, layout, bounds, {**widened, **overrides}, optimizer, seed, settings,
+                        substeps, on_generation, start, mask)
+        evals += fit.evaluations
+        more = wider_bounds(model, fit, overrides) if widen and fit.bounds_mode == "auto" else {}
+        if not more or rounds == WIDEN_ROUNDS:
+            break
+        widened.update(more)
+        start = fit.params
+    fit.evaluations, fit.wall_s, fit.widened = evals, time.perf_counter() - t0, widened
+    fit.test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0])
+                   for k, t in enumerate(device.tests)]
+    return fit
+
+
+def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, settings, substeps, on_generation,
+              start, mask) -> FitResult:
+    """One optimizer run inside fixed bounds; ``start`` is kept if the run ends above it."""
+    mode, b, space, evaluate = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
-    t0 = time.perf_counter()
+    x0 = None if start is None else space.to_unit(np.clip(start, b[:, 0], b[:, 1]))
     if optimizer == "de":
-        x0 = None if start is None else space.to_unit(np.clip(start, b[:, 0], b[:, 1]))
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)
@@ -68,44 +112,67 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
             x, of = polish(evaluate, x, of, 4000, count)
             evals = count[0]
             history.append(of)
-    return FitResult(spec=model.spec, names=model.names, units=model.units,
+    if x0 is not None:
+        of0 = float(evaluate(x0[None, :])[0])
+        if of0 < of:
+            x, of = x0, of0
+    return FitResult(spec=model.spec, names=layout.names, units=layout.repeat(model.units),
                      params=space.to_params(x), of=float(of), bounds=b, bounds_mode=mode,
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
-                     wall_s=time.perf_counter() - t0, record=record.name,
-                     log=[bool(x) for x in space.log], off=model.off_values())
+                     record=device.name, log=[bool(v) for v in space.log],
+                     off=layout.repeat(model.off_values()), tests=list(device.test_names))
 
 
-def _problem(model, record, bounds, overrides=None, mask=None, substeps: int = 1):
-    """(bounds mode, bounds (n_par, 2), the unit-cube Space, evaluate(X) -> OF
-    (eq. 18 of the ``mask``ed samples, inf where not finite)) of one fit."""
+def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps: int = 1):
+    """(bounds mode, bounds (n_cols, 2), the unit-cube Space, evaluate(X) -> OF
+    (eq. 18, the tests' weighted mean, of the ``mask``ed samples; inf where
+    not finite)) of one fit."""
     if isinstance(bounds, str):
-        mode, b = bounds, model.bounds(bounds, record.scales())
+        mode, b = bounds, np.array(layout.repeat(list(model.bounds(bounds, device.scales()))), dtype=float)
+        log = layout.repeat(list(model.log_scale(mode))) if mode == "auto" else None
     else:
-        mode, b = "custom", np.asarray(bounds, dtype=float)
-    b = apply_overrides(model, b, overrides or {})
-    space = Space.of(b, model.log_scale(mode) if mode == "auto" else None)
+        mode, b, log = "custom", np.asarray(bounds, dtype=float), None
+    b = apply_overrides(layout.names, model.spec, b, overrides or {})
+    space = Space.of(b, log)
 
     def evaluate(X):
-        of = objective(record.F, model.force(record, space.to_params(X), substeps), record.t, mask)
+        of = joint_objective(model, device, layout, space.to_params(X), mask, substeps)
         return np.where(np.isfinite(of), of, np.inf)
 
     return mode, b, space, evaluate
 
 
-def polish_model(model, record, start: np.ndarray, mask: np.ndarray | None = None, max_evals: int = 1000,
-                 bounds: str = "auto") -> tuple[np.ndarray, float]:
+def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1) -> np.ndarray:
+    """Eq. 18 on each test, weighted by the device's weights: (pop,) for P (pop, n_cols).
+    ``mask``: one boolean array (a single test) or a list (per test, None: all samples)."""
+    masks = mask if isinstance(mask, (list, tuple)) else [mask] * len(device.tests)
+    total = 0.0
+    for k, (test, w) in enumerate(zip(device.tests, device.weights)):
+        if w == 0.0:
+            continue
+        F = model.force(test, layout.for_test(P, k), substeps)
+        total = total + w * objective(test.F, F, test.t, masks[k])
+    return np.asarray(total, dtype=float)
+
+
+def polish_model(model, record, start: np.ndarray, mask=None, max_evals: int = 1000,
+                 bounds: str = "auto", per_test=()) -> tuple[np.ndarray, float]:
     """Nelder-Mead from ``start`` (parameters) inside the model's bounds,
     minimising the OF (of the ``mask``ed samples): (parameters, OF), never
     worse than ``start``'s."""
-    _, b, space, evaluate = _problem(model, record, bounds, mask=mask)
+    device = as_device(record)
+    layout = Layout(model, tuple(device.test_names), tuple(per_test))
+    _, b, space, evaluate = _problem(model, device, layout, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
-    of0 = evaluate_params(model, record, start, mask)
+    of0 = float(evaluate(space.to_unit(start)[None, :])[0])
     x, of = polish(evaluate, space.to_unit(start), of0, max_evals, [0])
     return (start, of0) if of0 <= of else (space.to_params(x), float(of))
 
 
-def evaluate_params(model, record, params, mask: np.ndarray | None = None) -> float:
-    """The OF (eq. 18; of the ``mask``ed samples) of one parameter vector, inf when not finite."""
-    of = float(objective(record.F, model.force(record, np.asarray(params, dtype=float)[None, :])[0],
-                         record.t, mask))
+def evaluate_params(model, record, params, mask=None, per_test=()) -> float:
+    """The OF (eq. 18; of the ``mask``ed samples; a device's weighted mean) of
+    one parameter vector, inf when not finite."""
+    device = as_device(record)
+    layout = Layout(model, tuple(device.test_names), tuple(per_test))
+    of = float(joint_objective(model, device, layout, np.asarray(params, dtype=float)[None, :], mask)[0])
     return of if np.isfinite(of) else float("inf")

@@ -28,6 +28,9 @@ class FitResult:
     record: str = ""
     log: list = field(default_factory=list)  # searched on a log scale, per parameter
     off: list = field(default_factory=list)  # value that switches an effect off (None for law parameters)
+    tests: list = field(default_factory=list)  # the device's tests (one: the record)
+    test_of: list = field(default_factory=list)  # OF (eq. 18) on each test
+    widened: dict = field(default_factory=dict)  # {law parameter: (lower, upper)} automatic bounds widened
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -37,6 +40,8 @@ class FitResult:
         d.pop("names")
         d["history"] = [float(h) for h in self.history]
         d["log"] = [bool(x) for x in self.log]
+        d["test_of"] = [float(x) for x in self.test_of]
+        d["widened"] = {n: [float(lo), float(hi)] for n, (lo, hi) in self.widened.items()}
         return d
 
     def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:

@@ -22,7 +22,9 @@ class Parameter:
     ``paper``: the bounds of the paper's Table 4 (or a literature default);
     ``auto(scales)``: bounds derived from the record's peak force F [kN],
     velocity v [mm/s] and displacement d [mm]; ``log``: searched on a log
-    scale by the default optimizer (parameters spanning decades).
+    scale by the default optimizer (parameters spanning decades); ``limit``:
+    the physical range an automatic bound may widen to when a fit ends on it
+    (``fit.nested.wider_bounds``).
     """
 
     name: str
@@ -31,6 +33,7 @@ class Parameter:
     auto: Callable[[dict], tuple[float, float]]
     description: str
     log: bool = False
+    limit: tuple[float, float] = (0.0, float("inf"))
 
 
 @dataclass(frozen=True)

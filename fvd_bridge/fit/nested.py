@@ -1,0 +1,58 @@
+"""Nested starts and widening bounds: a fit that cannot end worse than the
+model it extends, nor be starved by an automatic bound.
+
+A model with effects nests the model without its last effect: that model's
+optimum, with the effect at its 'off' values, reproduces it exactly.  The fit
+puts that point into its first population and keeps it should the search
+end above it.  A law parameter that ends on an automatic bound has its bound
+widened (the span doubled on that side, on the log scale for log-searched
+parameters, never past the parameter's physical ``limit``) and the fit
+repeats from its optimum, at most ``WIDEN_ROUNDS`` times.  Effects' bounds
+are their plausibility caps and do not widen.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .layout import SEP
+
+#: at most this many widen-and-refit rounds per fit
+WIDEN_ROUNDS = 3
+
+
+def nested_start(model, layout, parent_names, parent_params, scales) -> np.ndarray:
+    """The columns of ``layout`` (a fit of ``model``) that reproduce the parent
+    model's fit (``parent_names``, ``parent_params``): shared values copied by
+    name, each added effect at its 'off' values clipped into its bounds (an
+    infinite stiffness is the upper bound)."""
+    values = dict(zip(parent_names, map(float, parent_params)))
+    for e in model.effects:
+        for name, none, (lo, hi) in zip(e.names, e.none, e.bounds(scales)):
+            values.setdefault(name, float(np.clip(none, lo, hi)))
+    return layout.expand(values)
+
+
+def wider_bounds(model, fit, fixed=()) -> dict:
+    """{law parameter: (lower, upper)} widened where ``fit`` (a FitResult)
+    ended on an automatic bound; parameters in ``fixed`` (the user's --bound)
+    and those at their physical limit stay.  Empty when nothing widens."""
+    limits = {p.name: p.limit for p in model.law.parameters}
+    out = {}
+    for name, side in fit.on_bound():
+        base = name.split(SEP)[0]
+        if base not in limits or base in fixed or base in out:
+            continue
+        j = fit.names.index(name)
+        lo, hi = (float(x) for x in fit.bounds[j])
+        lim_lo, lim_hi = limits[base]
+        if fit.log[j] and lo > 0:
+            new = (lo * lo / hi, hi) if side == "lower" else (lo, hi * hi / lo)
+        else:
+            new = (lo - (hi - lo), hi) if side == "lower" else (lo, hi + (hi - lo))
+            if side == "lower" and lo > 0 and new[0] < 0:
+                new = (0.0, hi) if lim_lo <= 0 else (max(lim_lo, lo / 10.0), hi)
+        new = (max(new[0], lim_lo), min(new[1], lim_hi))
+        if new != (lo, hi):
+            out[base] = new
+    return out
