@@ -27,19 +27,19 @@ PROTOCOL_KEYS = ("name", "amplitude", "velocity", "cycles", "dt")
 RECORDS_DIR = "records"
 
 
-def expand_records(patterns, base: str, where: str) -> list[str]:
+def expand_records(patterns, base: str, where: str, key: str = "records") -> list[str]:
     """Paths of ``patterns`` (paths or globs, relative to ``base``), in the given
     order, each glob sorted, no file twice; a pattern matching nothing is an error."""
     if isinstance(patterns, str):
         patterns = [patterns]
     if not isinstance(patterns, list) or not patterns:
-        raise InputError(f"{where}: key 'records': expected a path, a glob or a list of them")
+        raise InputError(f"{where}: key '{key}': expected a path, a glob or a list of them")
     paths = []
     for pattern in patterns:
         full = os.path.join(base, os.path.expanduser(str(pattern)))
         found = sorted(glob.glob(full)) if glob.has_magic(full) else ([full] if os.path.exists(full) else [])
         if not found:
-            raise InputError(f"{where}: key 'records': '{pattern}' matches no file")
+            raise InputError(f"{where}: key '{key}': '{pattern}' matches no file")
         paths += [p for p in found if p not in paths]
     return paths
 

@@ -4,6 +4,7 @@ parallel (local processes or a Dask cluster) and resumable after a kill.
 The campaign file (YAML; relative paths are relative to the file):
 
     records: [lab/dev*.csv, extra/dev9.csv]     # paths or globs, one record per device; or:
+    devices: {SN101: [lab/SN101_*.csv], SN102: [lab/SN102_*.csv]}  # several tests per device; or:
     rig: {devices: 200, nominal: {C: 45.4, alpha: 0.3}, scatter: {C: 0.05},
           protocol: paper, noise: {force: 1.0, displacement: 0.005}, seed: 0}   # -> OUT/records
     models: 2,6,9                              # laws and LAW+EFFECT specs (a list works too)
@@ -43,11 +44,12 @@ from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spe
 from ..campaign.stats import OUTLIER_K
 from ..campaign.store import UnitStore
 from ..errors import InputError
+from ..records.device import Device
 from .calibrate import campaign_settings, option_parser, parse_option, unique_names
 from .common import read_records
 
 #: keys only a campaign file has (calibrate's options are the rest)
-CAMPAIGN_KEYS = ("records", "rig", "models", "acceptance", "outliers", "executor", "scheduler")
+CAMPAIGN_KEYS = ("records", "devices", "rig", "models", "acceptance", "outliers", "executor", "scheduler")
 #: calibrate options a campaign file does not take: (key, why)
 NOT_IN_FILE = {"laws": "use 'models'", "config": "the campaign file is the config", "quiet": "a command-line flag"}
 EXECUTORS = ("local", "dask")
@@ -119,8 +121,11 @@ def plan(path: str) -> dict:
     base = os.path.dirname(os.path.abspath(path))
     if not args.out:
         raise InputError(f"{path}: key 'out' is required (the output directory)")
-    if ("records" in own) == ("rig" in own):
-        raise InputError(f"{path}: give exactly one of 'records' (paths or globs) and 'rig' (a virtual series)")
+    if sum(key in own for key in ("records", "devices", "rig")) != 1:
+        raise InputError(f"{path}: give exactly one of 'records' (paths or globs), 'devices' (name: the tests' "
+                         f"paths or globs) and 'rig' (a virtual series)")
+    if "devices" in own and (not isinstance(own["devices"], dict) or not own["devices"]):
+        raise InputError(f"{path}: key 'devices': expected a mapping of device names to paths or globs")
     args.out = os.path.join(base, os.path.expanduser(str(args.out)))
     args.plugin = [os.path.join(base, os.path.expanduser(p)) for p in args.plugin]
     if args.jobs is not None and args.jobs < 0:
@@ -146,12 +151,19 @@ def plan(path: str) -> dict:
                 "plugins": [{"file": os.path.basename(p), "sha256": _file_sha256(p)} for p in cs.plugins],
                 "source": {"rig": rig} if rig else "records"}
     return {"cs": cs, "args": args, "base": base, "out": args.out, "rig": rig, "records": own.get("records"),
+            "devices": own.get("devices"),
             "acceptance": Acceptance.from_dict(own.get("acceptance"), path), "k": k, "executor": executor,
             "scheduler": own.get("scheduler"), "settings": settings}
 
 
 def load_records(p: dict, path: str):
-    """The campaign's records, in order, with unique names (a rig series is simulated once into OUT/records)."""
+    """The campaign's devices, in order, with unique names: records (one per
+    device), Devices (several tests each), or a rig series (simulated once
+    into OUT/records)."""
+    if p["devices"] is not None:
+        return [Device(str(name), unique_names(read_records(expand_records(tests, p["base"], path, f"devices.{name}"),
+                                                            p["args"])))
+                for name, tests in p["devices"].items()]
     if p["rig"] is not None:
         paths = rig_records(p["rig"], p["out"], path)
     else:

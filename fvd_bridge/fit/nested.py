@@ -18,7 +18,7 @@ import numpy as np
 from .layout import SEP
 
 #: at most this many widen-and-refit rounds per fit
-WIDEN_ROUNDS = 3
+WIDEN_ROUNDS = 5
 
 
 def nested_start(model, layout, parent_names, parent_params, scales) -> np.ndarray:

@@ -15,13 +15,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from .cycles import dominant_period
+from .cycles import dominant_period, reversals
 
 
 @dataclass
 class Device:
     """The tests (Records) of one device and their weights in the objective
-    (normalised to sum 1; None: equal)."""
+    (normalised to sum 1; None: equal); ``warnings``: the tests' reading notes."""
 
     name: str
     tests: list
@@ -36,6 +36,7 @@ class Device:
             raise InputError(f"device {self.name}: --test-weights needs {len(self.tests)} non-negative numbers, "
                              f"not all zero")
         self.weights = w / w.sum()
+        self.warnings = self.warnings or [w for t in self.tests for w in t.warnings]
         names = [t.name for t in self.tests]
         if len(set(names)) != len(names):
             raise InputError(f"device {self.name}: two tests are named alike ({', '.join(names)})")
@@ -72,8 +73,14 @@ def as_device(x) -> Device:
 
 def tested_range(record) -> dict:
     """What a test exercised: peak stroke d [mm], peak velocity v [mm/s] and
-    its dominant frequency f [Hz] (the strongest spectral line of d; None
-    when d has none)."""
+    its frequency f [Hz]: 1 / (2 x the median time between reversals of d),
+    or the strongest spectral line of d with fewer than three reversals
+    (None when d has none)."""
     s = record.scales()
-    period = dominant_period(record.d, record.dt)
-    return {"d": s["d"], "v": s["v"], "f": float(1.0 / period) if np.isfinite(period) else None}
+    r = reversals(record.d)
+    if r.size >= 3:
+        f = 1.0 / (2.0 * float(np.median(np.diff(record.t[r]))))
+    else:
+        period = dominant_period(record.d, record.dt)
+        f = 1.0 / period if np.isfinite(period) else None
+    return {"d": s["d"], "v": s["v"], "f": f}
