@@ -2,7 +2,9 @@
 
     rec = read_record("dev1.csv")                 # fvd_bridge.records
     m = parse_model("2+friction")                  # law + effects
-    cal = calibrate(rec, m, runs=3, seed=0)        # best of 3 seeded fits -> Calibration
+    cal = calibrate(rec, m, runs=3, seed=0)        # best of 3 seeded fits -> Calibration, with 95% intervals
+    dev = Device("sn101", [read_record(p) for p in ("a.csv", "b.csv")])
+    cal = calibrate(dev, "9", per_test=["beta"])   # tests of one device fitted together
     cal.save("law2+friction.yaml"); Calibration.load("law2+friction.yaml")
     diag = diagnose_record(rec, "2")               # where it fails, what is missing
 
@@ -19,21 +21,36 @@ from .catalog import catalog
 from .diagnose import climb, diagnose
 from .errors import InputError
 from .fit import fit_model, settings_for
+from .fit.intervals import REPLICATES
+from .fit.intervals import intervals as fit_intervals
+from .fit.layout import Layout
+from .fit.nested import nested_start
+from .records.device import as_device
 
 
 def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = "de",
-              bounds: str = "auto", plugins=(), pop: int | None = None, gens: int | None = None) -> Calibration:
-    """Fit one model to one record ``runs`` times, with the seeds `fvd-bridge
-    calibrate RECORD --laws SPEC --runs N --seed S` gives its runs (campaign.tasks:
-    (seed, device 0, model 0, run)), so both reach the same calibration; the best
-    run as a Calibration with the post-fit warnings and the run statistics.
-    ``pop``, ``gens``: optimizer settings as `calibrate --pop --gens` (None: defaults)."""
+              bounds: str = "auto", plugins=(), pop: int | None = None, gens: int | None = None,
+              per_test=(), start=None, intervals: int = REPLICATES) -> Calibration:
+    """Fit one model to one record (or a Device: its tests together) ``runs``
+    times, with the seeds `fvd-bridge calibrate RECORD --laws SPEC --runs N
+    --seed S` gives its runs (campaign.tasks: (seed, device 0, model 0, run)),
+    so both reach the same calibration; the best run as a Calibration with
+    the post-fit warnings, the run statistics and ``intervals`` bootstrap
+    replicates' 95% intervals (0: none; fit.intervals).  ``pop``, ``gens``:
+    optimizer settings as `calibrate --pop --gens` (None: defaults);
+    ``per_test``: parameters fitted per test; ``start``: a Calibration the
+    model extends, to start from (`calibrate --start`)."""
     m = catalog(plugins).model(model_or_spec) if isinstance(model_or_spec, str) else model_or_spec
     if int(runs) < 1:
         raise InputError(f"runs {runs}: must be at least 1")
     settings = settings_for(optimizer, pop, gens)
-    fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings)
-            for r in range(int(runs))]
+    first = None
+    if start is not None:
+        device = as_device(record)
+        first = nested_start(m, Layout(m, tuple(device.test_names), tuple(per_test)), start.model.names,
+                             start.params, device.scales())
+    fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings,
+                      per_test=per_test, start=first) for r in range(int(runs))]
     best = min(fits, key=lambda f: f.of)
     P = np.array([f.params for f in fits])
     OF = np.array([f.of for f in fits])
@@ -42,7 +59,10 @@ def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: st
                      "optimizer_settings": vars(settings), "plugins": list(plugins),
                      "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
     warnings = [w["message"] for w in fit_warnings(m, fits)]
-    return Calibration.from_fit(m, best, record, settings_dict, warnings, stats)
+    ivals = None
+    if intervals:
+        ivals = fit_intervals(m, record, best.params, per_test, best.bounds, intervals, seed=[seed, 7], of=best.of)
+    return Calibration.from_fit(m, best, record, settings_dict, warnings, stats, ivals)
 
 
 def diagnose_record(record, model_or_spec, seed: int = 0, ladder: bool = False, plugins=(), progress=None):

@@ -15,9 +15,12 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
     units: {force: kN, displacement: mm, time: s}
     parameters:                          # model order: the law's, then 'effect.param'
       C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs,
-          per_test: {TEST: value}}        # per_test: only a parameter fitted per test
+          stderr, ci95: [lo, hi],          # bootstrap intervals (fit.intervals), when computed
+          per_test: {TEST: value}, per_test_ci95: {TEST: [lo, hi]}}   # a parameter fitted per test
     derived:                             # quantities of the parameters (law 8: mu*N)
-      mu*N: {value, unit, description}
+      mu*N: {value, unit, description, stderr, ci95}
+    intervals: {replicates, method, not_identified: [...]}   # when computed
+    correlation: {names: [...], matrix: [[...]]}
     of: 0.0123                           # eq. 18 (a device's tests: their weighted mean)
     of_mean_over_runs, of_sigma_over_runs
     device: NAME                         # the device the tests belong to
@@ -73,6 +76,7 @@ class Calibration:
     path: str | None = None  # the file it was read from
     tests: list = field(default_factory=list)  # per test: name, weight, of, range, record, parameters
     device: str = ""
+    intervals: dict = field(default_factory=dict)  # fit.intervals.Intervals.as_dict() ({} : none)
 
     @property
     def spec(self) -> str:
@@ -136,10 +140,12 @@ class Calibration:
         return self.model.force(record, p[None, :], substeps)[0]
 
     @classmethod
-    def from_fit(cls, model, fit, record, settings: dict | None = None, warnings=(), runs: dict | None = None):
+    def from_fit(cls, model, fit, record, settings: dict | None = None, warnings=(), runs: dict | None = None,
+                 intervals=None):
         """From a FitResult of ``model`` on ``record`` (a Record, or a Device:
         its tests); the model's vector holds the first test's values, a
-        parameter fitted per test keeps each test's value in ``tests``."""
+        parameter fitted per test keeps each test's value in ``tests``;
+        ``intervals``: their fit.intervals.Intervals."""
         device = as_device(record)
         n = len(model.names)
         per_test = {name.split(SEP)[0] for name in fit.names[n:]}
@@ -157,7 +163,8 @@ class Calibration:
                 runs[key] = np.asarray(runs[key])[:n]
         return cls(model, np.asarray(fit.params, dtype=float)[:n], float(fit.of),
                    np.asarray(fit.bounds, dtype=float)[:n], record_provenance(device.tests[0]),
-                   dict(settings or {}), list(warnings), runs, None, tests, device.name)
+                   dict(settings or {}), list(warnings), runs, None, tests, device.name,
+                   intervals.as_dict() if intervals is not None else {})
 
     def to_dict(self) -> dict:
         """The schema-2 mapping (see the module docstring)."""
@@ -177,12 +184,18 @@ class Calibration:
             "parameters": {
                 n: {"value": float(v), "unit": u, "bounds": [_num(lo), _num(hi)],
                     "mean_over_runs": float(m), "sigma_over_runs": float(s),
+                    **self._interval(n),
                     **({"per_test": {t["name"]: t["parameters"][n] for t in self.tests}}
                        if any(n in (t.get("parameters") or {}) for t in self.tests) else {})}
                 for n, u, v, (lo, hi), m, s in zip(self.model.names, self.model.units, self.params, bounds,
                                                    p_mean, p_sigma)},
-            "derived": {name: {"value": value, "unit": unit, "description": derived_info[name]}
+            "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
+                               **{k: v for k, v in (self.intervals.get("derived") or {}).get(name, {}).items()
+                                  if k in ("stderr", "ci95")}}
                         for name, (value, unit) in self.derived().items()},
+            **({"intervals": {k: _plain(self.intervals.get(k)) for k in ("replicates", "method", "noise_of", "note",
+                                                                           "not_identified")},
+                "correlation": _plain(self.intervals["correlation"])} if self.intervals else {}),
             "of": float(self.of),
             "of_mean_over_runs": float(self.runs.get("of_mean", self.of)),
             "of_sigma_over_runs": float(self.runs.get("of_sigma", 0.0)),
@@ -193,6 +206,34 @@ class Calibration:
             "settings": _plain(self.settings),
             "warnings": [str(w) for w in self.warnings],
         }
+
+    def _interval(self, name: str) -> dict:
+        """{stderr, ci95} of one parameter (with its per-test columns' ci95), or {}."""
+        given = (self.intervals.get("parameters") or {})
+        if name not in given:
+            return {}
+        out = {"stderr": given[name]["stderr"], "ci95": given[name]["ci95"]}
+        per = {n.split(SEP)[1]: v["ci95"] for n, v in given.items() if n.startswith(name + SEP)}
+        if per:
+            out["per_test_ci95"] = per
+        return out
+
+    def interval_lines(self) -> list[str]:
+        """'C = 39.87 kN/(mm/s)^alpha, 95% [39.9, 40.1] (stderr 0.05)' per
+        parameter and derived quantity, then what is not identified; [] without intervals."""
+        if not self.intervals:
+            return []
+        given = self.intervals["parameters"]
+        values = {**self.named(), **{f"{n}{SEP}{t['name']}": v for t in self.tests
+                                     for n, v in (t.get("parameters") or {}).items()}}
+        units = dict(zip(self.model.names, self.model.units))
+        out = [f"{n} = {values[n]:.5g} {units[n.split(SEP)[0]]}, 95% [{e['ci95'][0]:.5g}, {e['ci95'][1]:.5g}]"
+               + (f" (stderr {e['stderr']:.2g})" if e.get("stderr") is not None else "")
+               for n, e in given.items() if n in values]
+        out += [f"{n} = {d['value']:.5g} {d['unit']}, 95% [{d['ci95'][0]:.5g}, {d['ci95'][1]:.5g}] "
+                f"(stderr {d['stderr']:.2g})" for n, d in (self.intervals.get("derived") or {}).items()]
+        out += [f"not identified: {line}" for line in self.intervals.get("not_identified") or []]
+        return out + ([f"note: {self.intervals['note']}"] if self.intervals.get("note") else [])
 
     def save(self, path: str) -> str:
         """Write the file atomically (a temporary file renamed into place); returns ``path``."""
@@ -231,7 +272,8 @@ class Calibration:
         if not isinstance(tests, list) or not all(isinstance(t, dict) and "name" in t for t in tests):
             raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
         return cls(model, values, of, bounds, record, dict(settings), list(data.get("warnings") or []), runs,
-                   os.path.abspath(path), tests, str(data.get("device") or record.get("name") or ""))
+                   os.path.abspath(path), tests, str(data.get("device") or record.get("name") or ""),
+                   _intervals(data))
 
 
 def record_provenance(record) -> dict:
@@ -242,6 +284,18 @@ def record_provenance(record) -> dict:
             "samples": record.n, "dt": record.dt, "columns": prov.get("columns"), "window": prov.get("window"),
             "source_units": prov.get("units"), "velocity": prov.get("velocity"),
             "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
+
+
+def _intervals(data: dict) -> dict:
+    """The intervals of a loaded file, in Intervals.as_dict()'s form ({}: none)."""
+    if not data.get("intervals"):
+        return {}
+    params = {n: {"stderr": e["stderr"], "ci95": e["ci95"]} for n, e in data["parameters"].items() if "ci95" in e}
+    for n, e in data["parameters"].items():
+        for test, ci in (e.get("per_test_ci95") or {}).items():
+            params[f"{n}{SEP}{test}"] = {"stderr": None, "ci95": ci}
+    derived = {n: d for n, d in (data.get("derived") or {}).items() if "ci95" in d}
+    return {**data["intervals"], "parameters": params, "derived": derived, "correlation": data.get("correlation")}
 
 
 def _read_yaml(path: str):

@@ -87,28 +87,33 @@ def _num(x):
     return None if math.isnan(x) or math.isinf(x) else x
 
 
-def calibration(rec, dev_index: int, spec, summary_model, cs) -> Calibration:
-    """The calibrated parameter set of one (device, model): its best run."""
+def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) -> Calibration:
+    """The calibrated parameter set of one (device, model): its best run (with its intervals)."""
     best = summary_model["best"][rec.name]
     runs = {"of_mean": summary_model["of_mean"][dev_index], "of_sigma": summary_model["of_sigma"][dev_index],
             "p_mean": summary_model["p_mean"][dev_index], "p_sigma": summary_model["p_sigma"][dev_index]}
     settings = {**cs.as_dict(), "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
     return Calibration.from_fit(cs.model(spec), best, rec, settings,
-                                [w["message"] for w in summary_model["warnings"][rec.name]], runs)
+                                [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
 
 
-def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None) -> dict:
+def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None, intervals=None) -> dict:
     """Write every output into ``out`` (all or nothing); returns the summary.
+    ``intervals``: {(device, spec): Intervals} (campaign.runner.run_intervals).
 
     ``extra(stage, summary)``, when given, writes further files into the same
     staging directory (e.g. the production statistics of ``fvd-bridge campaign``).
     """
     summary = summarize(records, results, cs)
+    summary["intervals"] = {}
+    intervals = intervals or {}
     with staged_dir(out) as stage:
         for k, rec in enumerate(records):
             for spec in cs.specs:
-                calibration(rec, k, spec, summary["models"][spec], cs).save(
-                    os.path.join(stage, "params", rec.name, spec_file(spec)))
+                cal = calibration(rec, k, spec, summary["models"][spec], cs, intervals.get((rec.name, spec)))
+                cal.save(os.path.join(stage, "params", rec.name, spec_file(spec)))
+                if cal.intervals:
+                    summary["intervals"][(rec.name, spec)] = cal.interval_lines()
         _tables(stage, summary, cs)
         write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
         if figures:

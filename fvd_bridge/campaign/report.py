@@ -33,6 +33,12 @@ def format_report(summary: dict) -> str:
                             for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
     lines += [""] + _pareto_lines(models, w_model, len(devices))
+    ivals = summary.get("intervals") or {}
+    if ivals:
+        lines += ["", "95% intervals of the calibrations (bootstrap of the measurement chain):"]
+        for (dev, spec), rows in ivals.items():
+            lines.append(f"  law {spec}, {dev}:")
+            lines += [f"    {row}" for row in rows]
     warn = [(spec, dev, w["message"]) for spec, m in models.items()
             for dev, ws in m["warnings"].items() for w in ws]
     if warn:

@@ -8,6 +8,7 @@ from tqdm import tqdm
 
 from ..catalog import catalog as load_catalog
 from ..fit import settings_for
+from ..fit.intervals import intervals
 from .executors import Processes
 from .tasks import make_tasks, run_task
 
@@ -29,6 +30,7 @@ class CampaignSettings:
     bound_overrides: tuple = field(default_factory=tuple)  # (spec or None, name, lower, upper)
     per_test: tuple = field(default_factory=tuple)  # (spec or None, name): parameters fitted per test
     start: tuple | None = None  # (spec, names, values) of a calibration file to start from
+    intervals: int = 0  # bootstrap replicates of each calibration's parameter intervals (0: none)
 
     @property
     def catalog(self):
@@ -64,7 +66,7 @@ class CampaignSettings:
                 "optimizer": self.optimizer, "seed": self.seed, "optimizer_settings": vars(s),
                 "plugins": list(self.plugins),
                 "bound_overrides": [list(o) for o in self.bound_overrides],
-                "per_test": [list(o) for o in self.per_test],
+                "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
                 "start": None if self.start is None else {"model": self.start[0],
                                                           "values": dict(zip(self.start[1], self.start[2]))}}
 
@@ -90,3 +92,32 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     finally:
         bar.close()
     return results
+
+
+def interval_task(key: tuple, record, cs, params, bounds, per_test, of):
+    """The parameter intervals (fit.intervals) of one (device, model) calibration."""
+    return intervals(cs.model(key[1]), record, params, per_test, bounds, cs.intervals, seed=[cs.seed, 7], of=of)
+
+
+def run_intervals(records, results: dict, cs: CampaignSettings, executor=None, progress: bool = True) -> dict:
+    """{(device, spec): Intervals} of every calibration (the best run of each),
+    through ``executor`` (default: a local process pool); empty when
+    ``cs.intervals`` is 0."""
+    if not cs.intervals:
+        return {}
+    executor = executor or Processes(cs.jobs)
+    items = []
+    for rec in records:
+        for spec in cs.specs:
+            best = min(results[(rec.name, spec)], key=lambda r: r.of)
+            items.append(((rec.name, spec), rec, cs, best.params, best.bounds, cs.per_test_for(spec), best.of))
+    out = {}
+    bar = tqdm(total=len(items), disable=not progress, unit="calibration", dynamic_ncols=True,
+               desc=f"intervals ({cs.intervals} replicates)")
+    try:
+        for item, res in executor.run(interval_task, items):
+            out[item[0]] = res
+            bar.update()
+    finally:
+        bar.close()
+    return out

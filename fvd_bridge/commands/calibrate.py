@@ -10,10 +10,11 @@ import yaml
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..calibration import Calibration
-from ..campaign.runner import CampaignSettings, run_campaign
+from ..campaign.runner import CampaignSettings, run_campaign, run_intervals
 from ..catalog import catalog as load_catalog
 from ..errors import InputError
 from ..fit import OPTIMIZERS, settings_for
+from ..fit.intervals import REPLICATES
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
 from ..records.device import Device
 from .common import add_record_options, read_records
@@ -63,6 +64,9 @@ def add_campaign_options(p):
     p.add_argument("--per-test", action="append", default=[], metavar="[LAW:]NAME",
                    help="with several tests of a device: fit this parameter per test (the rest shared), "
                         "e.g. --per-test 9:beta or --per-test friction.Ff (repeatable)")
+    p.add_argument("--intervals", type=int, default=REPLICATES, metavar="N",
+                   help=f"bootstrap replicates of each calibration's parameter intervals (default {REPLICATES}; "
+                        f"0: none)")
     p.add_argument("--start", metavar="CALIBRATION.yaml",
                    help="start every model that extends this calibration's model (same law, its effects "
                         "among the model's) from its parameters; the fit ends no worse than them")
@@ -153,6 +157,8 @@ def apply_config(args) -> None:
 
 def campaign_settings(args) -> CampaignSettings:
     cat = load_catalog(args.plugin)
+    if args.intervals < 0 or args.intervals == 1:
+        raise InputError(f"--intervals {args.intervals}: 0 (none) or at least 2 replicates")
     for name in ("runs", "pop", "gens", "stall"):
         value = getattr(args, name)
         if value is not None and value < 1:
@@ -180,7 +186,7 @@ def campaign_settings(args) -> CampaignSettings:
     return CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
                             optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
                             stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
-                            bound_overrides=overrides, per_test=per_test, start=start)
+                            bound_overrides=overrides, per_test=per_test, start=start, intervals=args.intervals)
 
 
 def parse_per_test(text: str, specs, catalog) -> tuple:
@@ -238,7 +244,8 @@ def run(args) -> int:
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)
     results = run_campaign(records, cs, progress=not args.quiet)
-    summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures)
+    intervals = run_intervals(records, results, cs, progress=not args.quiet)
+    summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures, intervals=intervals)
     print(format_report(summary))
     print(f"\nwrote {args.out}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json"
           f"{', figures/' if not args.no_figures else ''})")

@@ -39,7 +39,7 @@ from ..campaign.executors import Dask, Processes
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report, format_series
 from ..campaign.resume import Resumable
-from ..campaign.runner import run_campaign
+from ..campaign.runner import run_campaign, run_intervals
 from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spec
 from ..campaign.stats import OUTLIER_K
 from ..campaign.store import UnitStore
@@ -214,6 +214,7 @@ def run(args) -> int:
               f"{cs.optimizer}, bounds {cs.bounds}; executor {where}", file=sys.stderr)
         resumable = Resumable(executor, store, progress=not args.quiet)
         results = run_campaign(records, cs, progress=False, executor=resumable)
+        intervals = run_intervals(records, results, cs, executor, progress=not args.quiet)
         figures = not p["args"].no_figures
         made = {}
 
@@ -225,7 +226,7 @@ def run(args) -> int:
             made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
             production.write(stage, made["prod"], made["accept"], figures)
 
-        summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra)
+        summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra, intervals=intervals)
     finally:
         store.close()
     print(format_report(summary) if len(records) <= 6 else format_series(summary))

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..fit import noise_floor, objective
 from ..records.cycles import force_noise
-from ..records.velocity import differentiate
+from ..records.velocity import rederive
 
 #: Monte Carlo draws of the input noise
 FLOOR_DRAWS = 4
@@ -75,17 +75,3 @@ def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_D
     out["floor"] = float(np.mean(ofs))
     out["sigma_v"] = float(np.median(dv))
     return out
-
-
-def rederive(record, d: np.ndarray):
-    """(v, a) the record's differentiator gives for displacement d [mm] (its
-    provenance: a user's window stays fixed, an automatic one is chosen
-    again); None when the record's velocity was not derived from d."""
-    vel = record.provenance.get("velocity", {})
-    method = str(vel.get("method", ""))
-    if not method or method == "measured" or method.startswith("exact"):
-        return None
-    window = vel.get("window") if vel.get("window_chosen") == "user" else None
-    v, a, _ = differentiate(d, record.dt, window=window, polyorder=vel.get("polyorder", 3),
-                            d_noise=getattr(record, "d_noise", None))
-    return v, a

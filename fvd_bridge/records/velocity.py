@@ -265,3 +265,17 @@ def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = No
                     "window_s": float(window * dt), "polyorder": int(polyorder)}
     settings["noise_mm_s2"] = float(np.median(a_noise))
     return a, a_noise, settings
+
+
+def rederive(record, d: np.ndarray):
+    """(v, a) the record's differentiator gives for displacement d [mm] (its
+    provenance: a user's window stays fixed, an automatic one is chosen
+    again); None when the record's velocity was not derived from d."""
+    vel = record.provenance.get("velocity", {})
+    method = str(vel.get("method", ""))
+    if not method or method == "measured" or method.startswith("exact"):
+        return None
+    window = vel.get("window") if vel.get("window_chosen") == "user" else None
+    v, a, _ = differentiate(d, record.dt, window=window, polyorder=vel.get("polyorder", 3),
+                            d_noise=getattr(record, "d_noise", None))
+    return v, a
