@@ -17,7 +17,8 @@ import pytest
 
 from fvd_bridge.catalog import catalog
 from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
-from fvd_bridge.diagnose.heldout import BaseFolds, held_out
+from fvd_bridge.diagnose.heldout import BaseFolds, folds, held_out
+from fvd_bridge.diagnose.where import half_cycles
 from fvd_bridge.fit import fit_model, settings_for
 from fvd_bridge.golden import REFERENCE
 from fvd_bridge.records import Record
@@ -160,12 +161,13 @@ def test_diagnose_base_agrees_with_calibrate(folder):
 
 
 def test_held_out_rejects_an_effect_of_one_part_of_the_record(folder):
-    """An offset force in the first half of the record only: on the whole
-    record a preload (parallel_stiffness) lowers the OF, but fitted on one
-    half it does not help on the other."""
+    """An offset force during two cycles only (a transient): on the whole
+    record a preload (parallel_stiffness) lowers the OF, but fitted on the
+    fold that holds those cycles it does not help on the other."""
     device = Device(C=C, alpha=ALPHA)
     tr = trace(device, PROTOCOLS["paper"]())
-    F = tr["F"] + np.where(tr["t"] < 0.5 * tr["t"][-1], 15.0, 0.0)
+    starts = half_cycles(tr["d"])
+    F = tr["F"] + np.where((tr["t"] >= tr["t"][starts[3]]) & (tr["t"] < tr["t"][starts[7]]), 15.0, 0.0)
     rec = lab_file(tr["t"], tr["d"], F, 0.005, 7, folder, "offset_first_half")
     diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
     cand = next(c for c in diag.candidates if c.effect == "parallel_stiffness")
@@ -173,6 +175,21 @@ def test_held_out_rejects_an_effect_of_one_part_of_the_record(folder):
     check = held_out(folds, cand.model, cand.fit.params, cand.improvement)
     assert not check["passes"], check
     assert "parallel_stiffness" not in [c.effect for c in diag.suggestions], format_diagnosis(diag)
+
+
+def test_held_out_folds_span_every_velocity_level(folder):
+    """On a five-level acceptance record each fold holds samples of every
+    level (cycles dealt alternately), and the two folds cover the record once."""
+    rec = rig_lab("acceptance", "none", 0.005, folder)
+    first, second = folds(rec)
+    assert not np.any(first & second) and np.all(first | second)
+    starts = list(half_cycles(rec.d)) + [rec.n]
+    levels = np.array([5.0, 125.0, 250.0, 375.0, 500.0])  # peak velocities [mm/s]
+    held = {0: set(), 1: set()}
+    for a, b in zip(starts[:-1], starts[1:]):
+        level = int(np.argmin(np.abs(levels - np.abs(rec.v[a:b]).max())))
+        held[0 if first[a:b].mean() > 0.5 else 1].add(level)
+    assert held[0] == held[1] == set(range(5)), held
 
 
 def test_undetectable_gap_is_not_suggested(folder):

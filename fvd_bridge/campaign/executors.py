@@ -12,6 +12,8 @@ from __future__ import annotations
 import logging
 import multiprocessing
 import os
+
+import numpy as np
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from ..errors import InputError
@@ -61,13 +63,17 @@ def _one_thread(fn, *args):
     return fn(*args)
 
 
+#: argument types sent with each task, not scattered once (scatter refuses an empty tuple)
+PLAIN = (tuple, list, str, int, float, np.ndarray, type(None))
+
+
 class Dask:
     """Run on a dask.distributed cluster: the scheduler at ``scheduler``
     ('tcp://host:8786'), or a LocalCluster of ``workers`` (0: one per core)
     single-threaded workers, process workers unless ``processes`` is False.
 
     Every worker needs fvd_bridge (same version) and any plugin file at the
-    same path.  Each distinct record is sent to the cluster once; numba
+    same path.  Each distinct record (and settings object) is sent to the cluster once; numba
     kernels run on one thread per task.  Results arrive in completion order.
     """
 
@@ -101,6 +107,9 @@ class Dask:
             for item in items:
                 args = []
                 for x in item[1:]:
+                    if isinstance(x, PLAIN):  # small values go with the task
+                        args.append(x)
+                        continue
                     if id(x) not in shared:
                         shared[id(x)] = client.scatter(x, hash=False)
                     args.append(shared[id(x)])

@@ -83,7 +83,8 @@ def result_from_dict(d: dict) -> FitResult:
                      wall_s=float(d["wall_s"]), record=d["record"], log=[bool(x) for x in d["log"]],
                      off=list(d["off"]), tests=list(d.get("tests") or []),
                      test_of=[float(x) for x in d.get("test_of") or []],
-                     widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()})
+                     widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()},
+                     parent=list(d.get("parent") or []))
 
 
 def record_digest(rec) -> str:

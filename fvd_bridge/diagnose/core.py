@@ -190,9 +190,12 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     diag = Diagnosis(record.name, model, base_fit, F_model, noise["sigma_F"], judge,
                      where_mod.analyse(record, F_model), noise=noise, base_history=history)
     diag.candidates = assess(found, model, base_fit, record, judge, noise["sigma_d"]) if found else []
-    if parent is True and model.effects:
+    if parent is True and model.effects and base_fit.parent:  # the nested fit the base started from
+        parent = (base_fit.parent[0], float(base_fit.parent[1]))
+    elif parent is True and model.effects:  # fitted as calibrate fits it: the best base available
         parent_model = model.without_effect(model.effects[-1].name)
-        pfit = fit_model(parent_model, record, bounds="auto", optimizer="de", seed=seed, settings=settings)
+        pfit = fit_model(parent_model, record, bounds="auto", optimizer="de", seed=[seed, 0, 0, 0],
+                         settings=settings_for(DEFAULT_OPTIMIZER))
         parent = (parent_model.spec, float(pfit.of))
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
     diag.parent = parent if isinstance(parent, tuple) else None

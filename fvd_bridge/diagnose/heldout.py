@@ -1,7 +1,11 @@
 """Held-out cycles: does an effect also help on cycles it was not fitted to?
 
-The record's half-cycles are cut into two halves in time (the first and the
-second half of the half-cycles).  Base model and candidate are each fitted
+The record's cycles are dealt into two folds, alternately (cycle 1, 3, 5,
+... and cycle 2, 4, 6, ...; a cycle is two half-cycles between reversals of
+d), so each fold spans every amplitude and velocity level of the test: a
+fold cut in time would hold the low levels alone and the high ones alone,
+and neither could separate, say, friction from the damping exponent.  Base
+model and candidate are each fitted
 on one half (Nelder-Mead from their full-record optimum, the OF of that
 half's samples; the model still runs over the whole record, so a
 differential law's state is right) and scored on the other half, then the
@@ -26,11 +30,15 @@ SHARE = 0.5
 
 
 def folds(record) -> list[np.ndarray]:
-    """Two boolean masks (n_t,): the samples of the first and of the second
-    half of the record's half-cycles (cut at the reversal nearest the middle)."""
+    """Two boolean masks (n_t,): the samples of the odd and of the even
+    cycles (pairs of half-cycles; with fewer than four half-cycles, the first
+    and the second half of the record)."""
     starts = half_cycles(record.d)
-    cut = int(starts[starts.size // 2]) if starts.size >= 4 else record.n // 2
-    first = np.arange(record.n) < cut
+    if starts.size < 4:
+        first = np.arange(record.n) < record.n // 2
+        return [first, ~first]
+    cycle = np.searchsorted(starts, np.arange(record.n), side="right") - 1  # half-cycle of each sample
+    first = (cycle // 2) % 2 == 0
     return [first, ~first]
 
 

@@ -69,7 +69,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
     settings = settings or settings_for(optimizer)
     overrides = dict(overrides or {})
-    t0, evals, widened = time.perf_counter(), 0, {}
+    t0, evals, widened, parent_of = time.perf_counter(), 0, {}, []
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
         pfit = fit_model(model, device, bounds, optimizer, seed, settings, substeps, None, overrides, None, mask,
                          (), True, widen)
@@ -81,7 +81,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
                          {k: v for k, v in overrides.items() if k in parent.names}, None, mask,
                          [n for n in per_test if n in parent.names], True, widen)
         start = nested_start(model, layout, pfit.names, pfit.params, device.scales())
-        evals, widened = pfit.evaluations, dict(pfit.widened)
+        evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), [parent.spec, float(pfit.of)]
     for rounds in range(WIDEN_ROUNDS + 1):
         fit = _fit_once(model, device, layout, bounds, {**widened, **overrides}, optimizer, seed, settings,
                         substeps, on_generation, start, mask)
@@ -91,7 +91,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
             break
         widened.update(more)
         start = fit.params
-    fit.evaluations, fit.wall_s, fit.widened = evals, time.perf_counter() - t0, widened
+    fit.evaluations, fit.wall_s, fit.widened, fit.parent = evals, time.perf_counter() - t0, widened, parent_of
     fit.test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0])
                    for k, t in enumerate(device.tests)]
     return fit

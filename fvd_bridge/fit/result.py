@@ -31,6 +31,7 @@ class FitResult:
     tests: list = field(default_factory=list)  # the device's tests (one: the record)
     test_of: list = field(default_factory=list)  # OF (eq. 18) on each test
     widened: dict = field(default_factory=dict)  # {law parameter: (lower, upper)} automatic bounds widened
+    parent: list = field(default_factory=list)  # [spec, OF] of the nested fit it started from ([]: none)
 
     def as_dict(self) -> dict:
         d = asdict(self)
