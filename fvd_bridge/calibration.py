@@ -125,6 +125,15 @@ class Calibration:
                        f"calibrated on ({where}): an extrapolation")
         return out
 
+    def tested_text(self) -> str:
+        """'tested up to 30 mm and 450 mm/s at 0.8-2.4 Hz (device sn101, 3 tests)': where the model holds."""
+        r = self.tested
+        parts = [f"{r[k]:.4g} {u}" for k, u in (("d", "mm"), ("v", "mm/s")) if r.get(k)]
+        freq = f" at {r['f'][0]:.3g}-{r['f'][1]:.3g} Hz" if r.get("f") else ""
+        n = len(self.tests) or 1
+        where = f"device {self.device or (self.record or {}).get('name', '?')}, {n} test{'s' if n > 1 else ''}"
+        return f"tested up to {' and '.join(parts)}{freq} ({where}); beyond it the model extrapolates"
+
     def params_for(self, test: str) -> np.ndarray:
         """The parameter vector on one test (parameters fitted per test take that test's value)."""
         names = [t["name"] for t in self.tests]

@@ -21,14 +21,17 @@ def two_devices(tmp_path_factory):
 
 
 def calibrate(args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", *args],
+    """The calibrate verb in a subprocess; without intervals unless the test asks for them (their own tests:
+    tests/test_intervals.py)."""
+    more = [] if "--intervals" in args else ["--intervals", "0"]
+    return subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", *args, *more],
                           capture_output=True, text=True, cwd=cwd)
 
 
 def test_calibrate_writes_every_output(two_devices, tmp_path):
     out = tmp_path / "cal"
     res = calibrate([*two_devices, "--laws", "1,2,9", "--runs", "2", "--pop", "8", "--gens", "40",
-                     "--out", str(out), "--jobs", "1", "--quiet", "--seed", "4"])
+                     "--out", str(out), "--jobs", "1", "--quiet", "--seed", "4", "--intervals", "4"])
     assert res.returncode == 0, res.stderr
     assert "Pareto set" in res.stdout
     for dev in ("dev_a", "dev_b"):
@@ -41,6 +44,10 @@ def test_calibrate_writes_every_output(two_devices, tmp_path):
         # law 2 recovers the orifice law of the rig device (noise 1 kN)
         p2 = yaml.safe_load(open(out / "params" / dev / "law2.yaml"))["parameters"]
         assert p2["alpha"]["value"] == pytest.approx({"dev_a": 0.3, "dev_b": 0.31}[dev], abs=0.01)
+        # each parameter with its bootstrap interval (4 replicates here), printed too
+        lo, hi = p2["alpha"]["ci95"]
+        assert lo < hi and p2["alpha"]["stderr"] > 0
+    assert "95% intervals of the calibrations" in res.stdout and "law 2, dev_a:" in res.stdout
     rows = list(csv.DictReader(open(out / "table_A7.csv")))
     assert {(r["model"], r["device"], r["quantity"]) for r in rows} >= {("2", "dev_a", "OF"), ("9", "dev_b", "beta")}
     rob = list(csv.DictReader(open(out / "robustness.csv")))

@@ -27,7 +27,7 @@ CAMPAIGN = {
             "scatter": {"C": 0.05, "alpha": 0.02}, "protocol": {"name": "paper", "cycles": 3},
             "noise": {"force": 1.0, "displacement": 0.005}, "seed": 3},
     "models": "2,9", "runs": 4, "seed": 1, "optimizer": "de", "pop": 8, "gens": 30, "jobs": 2,
-    "no_figures": True, "acceptance": {"velocity": 500, "tolerance": 0.15},
+    "no_figures": True, "acceptance": {"velocity": 500, "tolerance": 0.15}, "intervals": 0,
 }
 UNITS = 4 * 2 * 4
 

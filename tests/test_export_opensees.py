@@ -290,7 +290,7 @@ def calibrated(tmp_path_factory):
                         Noise(force=1.0, displacement=0.005), seed=3)[0]
     res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "1-9,2+gap",
                           "--runs", "1", "--pop", "8", "--gens", "40", "--out", str(out / "cal"), "--jobs", "1",
-                          "--quiet", "--no-figures"], capture_output=True, text=True, env=cli_env())
+                          "--quiet", "--no-figures", "--intervals", "0"], capture_output=True, text=True, env=cli_env())
     assert res.returncode == 0, res.stderr
     return out / "cal" / "params" / "dev", path
 

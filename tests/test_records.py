@@ -422,7 +422,7 @@ def test_calibrate_shows_the_unit_warning(tmp_path, capsys):
     bare = tmp_path / "bare.csv"
     bare.write_text(csv_text("t,d,F", [s["t"], s["d"], s["F"]]))
     rc = cli.main(["calibrate", str(bare), "--laws", "1", "--runs", "1", "--pop", "8", "--gens", "5",
-                   "--no-figures", "--jobs", "1", "--out", str(tmp_path / "cal")])
+                   "--no-figures", "--jobs", "1", "--out", str(tmp_path / "cal"), "--intervals", "0"])
     assert rc == 0
     assert NO_UNITS in capsys.readouterr().err
 

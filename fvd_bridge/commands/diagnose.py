@@ -13,6 +13,8 @@ from ..campaign.outputs import spec_file
 from ..catalog import catalog
 from ..errors import InputError
 from ..io.staging import safe_name, staged_dir
+from ..records.device import Device
+from .calibrate import unique_names
 from .common import add_record_options, read_records
 
 #: the reading options a command line repeats to read the record the same way
@@ -22,11 +24,15 @@ READ_OPTIONS = ("columns", "units", "mat_var", "dt", "sg_window", "window")
 def add_parser(sub):
     p = sub.add_parser(
         "diagnose", help="explain the misfit: where a model fails and which physical effect is missing",
-        description="Fit a model (LAW or LAW+EFFECT+...) to one record, show where it fails (figures and "
-                    "numbers), refit it with every effect it lacks and rank them, and compare what is "
-                    "left with the noise floor of the record itself. --ladder adds the best effect and "
-                    "repeats while it helps beyond noise.")
-    p.add_argument("record", metavar="RECORD", help="CSV or .mat test record")
+        description="Fit a model (LAW or LAW+EFFECT+...) to one record (or to the tests of one device "
+                    "together: --device), show where it fails (figures and numbers), refit it with every "
+                    "effect it lacks and rank them, and compare what is left with the noise floor of the "
+                    "record itself. --ladder adds the best effect and repeats while it helps beyond noise.")
+    p.add_argument("record", metavar="RECORD", nargs="+",
+                   help="CSV or .mat test record (with --device: the tests of that device)")
+    p.add_argument("--device", metavar="NAME",
+                   help="the records are tests of one device NAME: fitted together, effects judged by "
+                        "leaving one test out")
     p.add_argument("--law", required=True, metavar="SPEC",
                    help="model to diagnose: a law (see `fvd-bridge laws`), optionally with effects, e.g. 2 or 2+friction")
     p.add_argument("--ladder", action="store_true",
@@ -59,9 +65,15 @@ def run(args) -> int:
     cat = catalog(args.plugin)
     model = cat.model(args.law)  # refuse a bad spec before reading anything
     settings = diagnose_settings(args.pop, args.gens)
-    record = read_records([args.record], args)[0]
-    for w in record.warnings:
-        print(f"warning: {w}", file=sys.stderr)
+    records = read_records(args.record, args)
+    if len(records) > 1 and not args.device:
+        raise InputError(f"{len(records)} records: give --device NAME (they are the tests of one device), "
+                         f"or diagnose one record at a time")
+    for r in records:
+        for w in r.warnings:
+            print(f"warning: {w}", file=sys.stderr)
+    record = Device(args.device, unique_names(records)) if args.device else records[0]
+    label = " ".join(args.record)
 
     def progress(msg):
         if not args.quiet:
@@ -86,11 +98,11 @@ def run(args) -> int:
         print(json.dumps(report, indent=1))
     else:
         if lad is not None:
-            print(format_diagnosis(lad.diagnoses[0], args.record))
+            print(format_diagnosis(lad.diagnoses[0], label))
             print()
             print(format_ladder(lad))
         else:
-            print(format_diagnosis(diag, args.record, _next_lines(args, diag, paths)))
+            print(format_diagnosis(diag, label, _next_lines(args, diag, paths)))
         if files:
             print(f"\nwrote {', '.join(files)}")
     return 0
@@ -128,7 +140,9 @@ def _next_lines(args, diag, paths: dict) -> list:
     reading = [f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"
                for name in READ_OPTIONS if getattr(args, name, None) is not None]
     plugins = [f"--plugin {shlex.quote(p)}" for p in args.plugin]
-    again = ["fvd-bridge diagnose", shlex.quote(args.record), *reading, *plugins, f"--law {best.spec}"]
+    device = [f"--device {shlex.quote(args.device)}"] if args.device else []
+    again = ["fvd-bridge diagnose", *map(shlex.quote, args.record), *device, *reading, *plugins,
+             f"--law {best.spec}"]
     return [f"fvd-bridge export {target} {shlex.quote(paths[best.spec])} -o {output}", " ".join(again)]
 
 
@@ -150,10 +164,10 @@ def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
             from ..plots import diagnose as figs
 
             first = lad.diagnoses[0] if lad is not None else diag
-            figs.where(record, first, os.path.join(stage, f"{base}_where.png"))
+            figs.where(first.focus, first, os.path.join(stage, f"{base}_where.png"))
             written.append(f"{base}_where.png")
             if lad is not None:
-                figs.where(record, diag, os.path.join(stage, f"{base}_where_final.png"))
+                figs.where(diag.focus, diag, os.path.join(stage, f"{base}_where_final.png"))
                 figs.ladder(lad, os.path.join(stage, f"{base}_ladder.png"))
                 written += [f"{base}_where_final.png", f"{base}_ladder.png"]
     return [os.path.join(args.out, f) for f in written]

@@ -68,7 +68,9 @@ def run_opensees(args) -> int:
     cal = Calibration.load(args.params)
     export = opensees_export(cal.model, cal.named(), args.tag)
     record = read_records([args.check], args)[0] if args.check else None
-    script = to_script(export, lang)
+    if record is not None:
+        _warn_beyond(cal, record)
+    script = f"# {cal.tested_text()}\n" + to_script(export, lang)  # '#' starts a comment in Python and Tcl
     if record is not None and _check(cal, export, record, args):
         return 1  # the export failed its check: no script written
     if args.output:
@@ -107,6 +109,12 @@ def _check(cal, export, record, args) -> int:
     return 1
 
 
+def _warn_beyond(cal, record) -> None:
+    """Say on stderr where a check record goes beyond the calibration's tested range."""
+    for line in cal.beyond_tested(record):
+        print(f"warning: {line}", file=sys.stderr)
+
+
 def _fmu_check_record(cal, args):
     """The record the FMU is checked on: --check, the calibration record, or
     the golden input (when the calibration record is gone, or cannot be
@@ -132,6 +140,8 @@ def run_fmu(args) -> int:
         raise InputError(f"-o {args.output}: the file name must end in .fmu")
     cal = Calibration.load(args.params)
     record = _fmu_check_record(cal, args)
+    if args.check:
+        _warn_beyond(cal, record)
     tmp = f"{args.output}.partial-{os.getpid()}.fmu"  # build_fmu writes atomically; moved into place once checked
     try:
         build_fmu(cal, tmp, args.h_max)

@@ -9,7 +9,13 @@ off is below the base), the base is polished from there and every
 candidate whose OF is above the new base is refitted, until no refit finds
 a lower base (at most ``MAX_BASE_ROUNDS`` rounds).  Gains are measured
 against that converged base; the noise floor counts the record's force and
-displacement noise (``floor.py``)."""
+displacement noise (``floor.py``).
+
+Given several tests of one device (a Device), the base and every candidate
+are fitted to the tests together, the floor is the tests' weighted mean,
+the residual's analysis and the effects' sizes are those of the test the
+base misses most (the focus), and the held-out check leaves one test out
+in turn."""
 
 from __future__ import annotations
 
@@ -19,7 +25,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..catalog import catalog as default_catalog
-from ..fit import DEFAULT_OPTIMIZER, fit_model, polish_model, settings_for
+from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
+from ..records.device import as_device
 from ..fit.de import DESettings
 from . import where as where_mod
 from .floor import input_noise_floor
@@ -63,6 +70,8 @@ class Diagnosis:
     parent: tuple | None = None  # (spec, OF) of the model without the last effect
     noise: dict = field(default_factory=dict)  # floor.input_noise_floor's numbers
     base_history: list = field(default_factory=list)  # [(how, OF)] of the base fit's rounds
+    tests: list = field(default_factory=list)  # [(test name, OF)] of a device's tests
+    focus: object = None  # the Record analysed (a device: the test the base misses most)
 
     @property
     def spec(self) -> str:
@@ -114,6 +123,8 @@ class Diagnosis:
             "noise": self.noise,
             "noise_margin_of": self.judge.margin,
             "base_history": [{"how": how, "of": of} for how, of in self.base_history],
+            "tests": [{"name": name, "of": of} for name, of in self.tests],
+            "focus": getattr(self.focus, "name", self.record),
             "params": self.params(),
             "units": dict(zip(self.fit.names, self.fit.units)),
             "on_bound": [list(x) for x in self.on_bound()],
@@ -184,12 +195,19 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             base_fit.params, base_fit.of = params, of
             history.append(("lowered by a candidate's refit", float(of)))
             keep = {c.effect: c for c in found}
-    F_model = model.force(record, base_fit.params[None, :])[0]
-    noise = input_noise_floor(model, base_fit.params, record, seed, F_ref=F_model)
-    judge = Judge(noise["floor"], record.n, noise["force_floor"])
-    diag = Diagnosis(record.name, model, base_fit, F_model, noise["sigma_F"], judge,
-                     where_mod.analyse(record, F_model), noise=noise, base_history=history)
-    diag.candidates = assess(found, model, base_fit, record, judge, noise["sigma_d"]) if found else []
+    device = as_device(record)
+    test_of = [evaluate_params(model, t, base_fit.params) for t in device.tests]
+    focus = device.tests[int(np.argmax(test_of))]
+    F_model = model.force(focus, base_fit.params[None, :])[0]
+    noises = [input_noise_floor(model, base_fit.params, t, seed) for t in device.tests]
+    noise = dict(noises[device.tests.index(focus)])
+    noise["floor"] = float(np.dot(device.weights, [n["floor"] for n in noises]))
+    noise["force_floor"] = float(np.dot(device.weights, [n["force_floor"] for n in noises]))
+    judge = Judge(noise["floor"], device.n, noise["force_floor"])
+    diag = Diagnosis(device.name, model, base_fit, F_model, noise["sigma_F"], judge,
+                     where_mod.analyse(focus, F_model), noise=noise, base_history=history,
+                     tests=list(zip(device.test_names, test_of)) if len(device.tests) > 1 else [], focus=focus)
+    diag.candidates = assess(found, model, base_fit, device, judge, noise["sigma_d"], focus) if found else []
     if parent is True and model.effects and base_fit.parent:  # the nested fit the base started from
         parent = (base_fit.parent[0], float(base_fit.parent[1]))
     elif parent is True and model.effects:  # fitted as calibrate fits it: the best base available

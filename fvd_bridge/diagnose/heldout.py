@@ -14,6 +14,11 @@ held-out OF by at least ``SHARE`` of the relative drop it brings on the
 whole record: a real effect carries over to cycles it was not fitted to,
 an effect that only fits one part of the record (a transient, one odd
 cycle) does not.
+
+Given several tests of one device (a Device), the folds are the tests:
+each is left out in turn, base and candidate are fitted on the others and
+scored on it (leave-one-test-out): an effect must carry over to a test it
+was not fitted to.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fit import evaluate_params, polish_model
+from ..records.device import Device
 from .where import half_cycles
 
 #: Nelder-Mead evaluations of each fold's fit
@@ -43,13 +49,19 @@ def folds(record) -> list[np.ndarray]:
 
 
 class BaseFolds:
-    """The base model fitted on each fold once, shared by every candidate."""
+    """The folds of a record (cycles dealt alternately) or of a device (its
+    tests, left out in turn), and the base model fitted on each once, shared
+    by every candidate: ``fold`` is a list of (fit on, its mask, score on,
+    its mask)."""
 
     def __init__(self, model, params, record):
-        self.masks = folds(record)
-        self.record = record
-        self.fits = [polish_model(model, record, params, mask, FOLD_EVALS)[0] for mask in self.masks]
-        self.scores = [evaluate_params(model, record, p, ~mask) for p, mask in zip(self.fits, self.masks)]
+        if isinstance(record, Device) and len(record.tests) > 1:
+            self.fold = [(record.without(k), None, test, None) for k, test in enumerate(record.tests)]
+        else:
+            one = record.tests[0] if isinstance(record, Device) else record
+            self.fold = [(one, mask, one, ~mask) for mask in folds(one)]
+        self.fits = [polish_model(model, on, params, mask, FOLD_EVALS)[0] for on, mask, _, _ in self.fold]
+        self.scores = [evaluate_params(model, at, p, mask) for p, (_, _, at, mask) in zip(self.fits, self.fold)]
 
 
 def held_out(base: BaseFolds, model, params, improvement: float) -> dict:
@@ -57,8 +69,8 @@ def held_out(base: BaseFolds, model, params, improvement: float) -> dict:
     'gain': [relative drop per fold], 'passes': each drop >= SHARE x
     ``improvement``, the relative drop on the whole record}."""
     scores = []
-    for mask in base.masks:
-        fitted, _ = polish_model(model, base.record, params, mask, FOLD_EVALS)
-        scores.append(evaluate_params(model, base.record, fitted, ~mask))
+    for on, mask, at, at_mask in base.fold:
+        fitted, _ = polish_model(model, on, params, mask, FOLD_EVALS)
+        scores.append(evaluate_params(model, at, fitted, at_mask))
     gain = [(b - c) / b if b > 0 else 0.0 for b, c in zip(base.scores, scores)]
     return {"base": list(base.scores), "with": scores, "gain": gain, "passes": all(g > 0.0 and g >= SHARE * improvement for g in gain)}

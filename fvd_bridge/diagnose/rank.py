@@ -44,6 +44,7 @@ import numpy as np
 from ..fit import evaluate_params, fit_model
 from ..fit.layout import Layout
 from ..fit.nested import nested_start
+from ..records.device import as_device
 from . import sizes
 from .heldout import BaseFolds, held_out
 from .where import effective_samples
@@ -87,6 +88,7 @@ class Candidate:
     explanation: str = ""
     size: sizes.Size | None = None
     held_out: dict | None = None
+    on_cap: list = field(default_factory=list)  # the effect's parameters that ended on their plausibility cap
 
     @property
     def spec(self) -> str:
@@ -105,7 +107,7 @@ class Candidate:
                 "explanation": self.explanation, "size": self.size.text if self.size else "",
                 "detectable": bool(self.size.detectable) if self.size else True,
                 "plausible": bool(self.size.plausible) if self.size else True,
-                "of_effect_off": self.off_of, "held_out": self.held_out,
+                "of_effect_off": self.off_of, "held_out": self.held_out, "on_cap": list(self.on_cap),
                 "exports": [target for target, why in exports.items() if not why],
                 "not_exported": {target: why for target, why in exports.items() if why},
                 "params": {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}}
@@ -161,7 +163,8 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
             out.append(old)
             continue
         model = base_model.with_effect(e)
-        start = nested_start(model, Layout(model, (record.name,)), base_fit.names, base_fit.params, scales)
+        layout = Layout(model, tuple(as_device(record).test_names))
+        start = nested_start(model, layout, base_fit.names, base_fit.params, scales)
         t0 = time.perf_counter()
         fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
                         overrides=base_fit.widened)
@@ -183,17 +186,26 @@ def lower_base(candidates, base_model) -> tuple[float, np.ndarray | None]:
     return best.off_of, best.fit.params[cols]
 
 
-def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: float) -> list[Candidate]:
+def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: float, focus=None) -> list[Candidate]:
     """Judge each candidate against the converged base (module docstring);
-    those that count first, each group by OF (lowest first)."""
+    those that count first, each group by OF (lowest first).  ``record``: a
+    Record or a Device (its tests' residuals together; held-out: leave one
+    test out); ``focus``: the test sizes are judged on (default the first)."""
     folds = None
+    tests = as_device(record).tests
+    focus = focus or tests[0]
     for c in candidates:
         e = c.model.effects[-1]
         c.improvement = float((base_fit.of - c.of) / base_fit.of) if base_fit.of > 0 else 0.0
-        F = c.model.force(record, c.fit.params[None, :])[0]
-        ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, len(e.parameters), record.F - F)
-        c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), record, sigma_d)
+        residual = np.concatenate([t.F - c.model.force(t, c.fit.params[None, :])[0] for t in tests])
+        ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, len(e.parameters), residual)
+        c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), focus, sigma_d)
         c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
+        own = set(e.names)
+        c.on_cap = [f"{name} ended on its {side} bound {c.fit.bounds[c.fit.names.index(name)][side == 'upper']:.4g} "
+                    f"(the effect's plausible range): the device's effect may be larger than this model allows, "
+                    f"or another effect is at work"
+                    for name, side in c.fit.on_bound() if name in own]
         if ok and c.off_of - c.of <= judge.margin:
             ok, reason = False, f"the refit switched the effect off (OF {c.off_of:.4g} without it)"
         if ok and not c.size.detectable:
@@ -204,9 +216,10 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
             folds = folds or BaseFolds(base_model, base_fit.params, record)
             c.held_out = held_out(folds, c.model, c.fit.params, c.improvement)
             if not c.held_out["passes"]:
-                ok, reason = False, ("no gain on held-out cycles (" +
+                unit = "tests" if len(tests) > 1 else "cycles"
+                ok, reason = False, (f"no gain on held-out {unit} (" +
                                      ", ".join(f"{g:+.0%}" for g in c.held_out["gain"]) + ")")
             else:
-                reason = "helps beyond noise, on held-out cycles too"
+                reason = f"helps beyond noise, on held-out {'tests' if len(tests) > 1 else 'cycles'} too"
         c.significant, c.reason = ok, reason
     return sorted(candidates, key=lambda c: (not c.significant, c.of, c.effect))

@@ -35,6 +35,10 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
              f"with displacement noise {n.get('sigma_d', 0.0):.3g} mm (velocity noise "
              f"{n.get('sigma_v', 0.0):.3g} mm/s) through the model: {diag.floor:.4g}",
              f"parameters: {_params(f.names, f.params, f.units)}"]
+    if diag.tests:
+        lines.append(f"tests of device {diag.record} (fitted together; the residual below is of "
+                     f"{diag.focus.name}, where the model fails most): "
+                     + ", ".join(f"{name} OF {of:.4g}" for name, of in diag.tests))
     if len(diag.base_history) > 1:
         lines.append("base fit: " + "; ".join(f"{how} OF {of:.5g}" for how, of in diag.base_history))
     if diag.parent is not None:
@@ -59,6 +63,8 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
             lines.append(f"  {k:<5}{c.effect:<21}{c.of:>9.4g}{max(c.improvement, 0.0):>8.1%}  {c.reason}")
             if c.size is not None:
                 lines.append(f"  {'':<26}{'':>8}{'':>8}  fitted: {c.size.text}")
+            for note in c.on_cap:
+                lines.append(f"  {'':<26}{'':>8}{'':>8}  note: {note}")
     lines.append("")
     if diag.at_floor or diag.best is None:
         lines.append(diag.verdict())

@@ -265,7 +265,7 @@ def _h_max(calibration, h_max) -> float:
 
 
 def _device(calibration) -> str:
-    name = (calibration.record or {}).get("name")
+    name = calibration.device or (calibration.record or {}).get("name")
     if name:
         return str(name)
     return Path(calibration.path).parent.name if calibration.path else "damper"
@@ -286,7 +286,8 @@ def _description(calibration) -> str:
     file = _record_file(calibration)
     source = (f" on record {rec.get('name')}" + (f" ({file})" if file else "")) if rec else ""
     return (f"{_device(calibration)}: {kind} (fvd_bridge model {model.spec}: law {law.number}, {law.equation}"
-            f"{effects}), calibrated by fvd_bridge to OF {calibration.of:.4g}{source}. "
+            f"{effects}), calibrated by fvd_bridge to OF {calibration.of:.4g}{source}; "
+            f"{calibration.tested_text()}. "
             "Set d(t + h) [mm], the pin's displacement at the END of the step, before fmi3DoStep(t, h); "
             "units kN, mm, s.")
 

@@ -5,7 +5,8 @@ damper of every story through the OpenSees export; the bare frame is the
 reference.  Per case: peak interstory drift ratio, residual drift ratio,
 peak absolute floor acceleration, peak damper force and stroke, energy the
 dampers dissipated, and whether the damper left the range it was tested in
-(stroke or force beyond the calibration record's peaks, or the given limits).
+(stroke, velocity or frequency beyond the calibration's tested range, force
+beyond its tests' peak force, or the given limits).
 Over the devices of a production series each quantity's spread (min, mean,
 max, coefficient of variation) per model; the verdict names the simplest
 model whose peak drift and damper force stay within VERDICT_TOLERANCE of the
@@ -19,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..records.cycles import reversals
 from ..export.opensees import opensees_export
 from .analysis import FrameResult, run_frame
 from .model import DAMPER_TAGS_FROM
@@ -68,15 +70,32 @@ class Case:
 
 
 def _limits(cal, stroke_limit, force_limit) -> dict:
-    """Given limits, else the calibration record's peaks (the tested range)."""
-    peaks = (cal.record or {}).get("peaks") or {}
-    return {"stroke": stroke_limit if stroke_limit is not None else peaks.get("d"),
-            "force": force_limit if force_limit is not None else peaks.get("F")}
+    """Given limits, else the calibration's tested range (its tests' peak stroke and force)."""
+    tested = cal.tested
+    return {"stroke": stroke_limit if stroke_limit is not None else tested.get("d"),
+            "force": force_limit if force_limit is not None else tested.get("F")}
 
 
-def _exceeded(case: Case) -> list:
+def damper_motion(result) -> dict:
+    """What the dampers went through: peak stroke d [mm] and velocity v
+    [mm/s] over the stories, and the frequency f [Hz] of the damper with the
+    largest stroke (1 / (2 x its median time between reversals); None with
+    fewer than three reversals)."""
+    D = result.damper_deformation
+    V = np.gradient(D, result.t, axis=0)
+    k = int(np.argmax(np.max(np.abs(D), axis=0)))
+    r = reversals(D[:, k])
+    f = 1.0 / (2.0 * float(np.median(np.diff(result.t[r])))) if r.size >= 3 else None
+    return {"d": float(np.max(np.abs(D))), "v": float(np.max(np.abs(V))), "f": f}
+
+
+def _exceeded(case: Case, cal=None) -> list:
     v = case.values()
     out = []
+    if cal is not None and case.result is not None and case.result.damper_deformation is not None:
+        motion = damper_motion(case.result)
+        out += [line for line in cal.beyond_tested(motion, what_of="the dampers' motion")
+                if "stroke" not in line or case.limits.get("stroke") is None]
     for key, what in (("stroke", "stroke"), ("force", "force")):
         limit = case.limits.get(key)
         if limit and np.isfinite(v[key]) and v[key] > limit:
@@ -93,9 +112,9 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
 
     A model OpenSees cannot express is kept as a case without result, its note
     saying why (the FMU export is the way for it)."""
-    runs = [(Case("bare frame", None, None, None), None)]
+    runs = [(Case("bare frame", None, None, None), None, None)]
     for cal in calibrations:
-        device = (cal.record or {}).get("name") or "device"
+        device = cal.device or (cal.record or {}).get("name") or "device"
         case = Case(f"law {cal.spec} | {device}", cal.spec, device, float(cal.of),
                     limits=_limits(cal, stroke_limit, force_limit), n_params=len(cal.model.names))
         commands = None
@@ -104,19 +123,19 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
             case.exact, case.note, commands = export.exact, export.note, export.commands
         except InputError as exc:
             case.note = str(exc)
-        runs.append((case, commands))
-    for case, commands in runs:
+        runs.append((case, commands, cal))
+    for case, commands, cal in runs:
         if case.spec is not None and commands is None:
             if progress:
                 progress(f"{case.label}: skipped ({case.note})")
             continue
         case.result = run_frame(building, motion, commands, DAMPER_TAGS_FROM, dt_analysis=dt_analysis)
-        case.exceeded = _exceeded(case)
+        case.exceeded = _exceeded(case, cal)
         if progress:
             v = case.values()
             progress(f"{case.label}: peak drift {v['drift']:.3f}%, damper force {v['force']:.4g} kN "
                      f"({', '.join(case.result.solver.algorithms_used)})")
-    return [case for case, _ in runs]
+    return [case for case, _, _ in runs]
 
 
 def series_spread(cases) -> dict:
