@@ -121,7 +121,7 @@ class Calibration:
                            f"the model was calibrated on ({where}): an extrapolation")
         f, (lo, hi) = mine.get("f"), ref.get("f") or (None, None)
         if f and lo and not (1.0 - margin) * lo <= f <= (1.0 + margin) * hi:
-            out.append(f"{name}: dominant frequency {f:.3g} Hz is outside the {lo:.3g}-{hi:.3g} Hz the model was "
+            out.append(f"{name}: dominant frequency {f:.3g} Hz is outside the {_band(lo, hi)} the model was "
                        f"calibrated on ({where}): an extrapolation")
         return out
 
@@ -129,7 +129,7 @@ class Calibration:
         """'tested up to 30 mm and 450 mm/s at 0.8-2.4 Hz (device sn101, 3 tests)': where the model holds."""
         r = self.tested
         parts = [f"{r[k]:.4g} {u}" for k, u in (("d", "mm"), ("v", "mm/s")) if r.get(k)]
-        freq = f" at {r['f'][0]:.3g}-{r['f'][1]:.3g} Hz" if r.get("f") else ""
+        freq = f" at {_band(*r['f'])}" if r.get("f") else ""
         n = len(self.tests) or 1
         where = f"device {self.device or (self.record or {}).get('name', '?')}, {n} test{'s' if n > 1 else ''}"
         return f"tested up to {' and '.join(parts)}{freq} ({where}); beyond it the model extrapolates"
@@ -157,8 +157,8 @@ class Calibration:
         ``intervals``: their fit.intervals.Intervals."""
         device = as_device(record)
         n = len(model.names)
-        per_test = {name.split(SEP)[0] for name in fit.names[n:]}
-        layout = Layout(model, tuple(device.test_names), tuple(sorted(per_test, key=model.names.index)))
+        per_test = tuple(dict.fromkeys(name.split(SEP)[0] for name in fit.names[n:]))  # in the fit's column order
+        layout = Layout(model, tuple(device.test_names), per_test)
         test_of = fit.test_of or [float(fit.of)]
         tests = []
         for k, (test, w) in enumerate(zip(device.tests, device.weights)):
@@ -293,6 +293,12 @@ def record_provenance(record) -> dict:
             "samples": record.n, "dt": record.dt, "columns": prov.get("columns"), "window": prov.get("window"),
             "source_units": prov.get("units"), "velocity": prov.get("velocity"),
             "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
+
+
+def _band(lo: float, hi: float) -> str:
+    """'0.8-2.4 Hz', or '2 Hz' when both ends read alike."""
+    a, b = f"{lo:.3g}", f"{hi:.3g}"
+    return f"{a} Hz" if a == b else f"{a}-{b} Hz"
 
 
 def _intervals(data: dict) -> dict:

@@ -53,6 +53,13 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
 def _bound_message(model, best, name: str, side: str) -> str:
     """'alpha ended on its upper bound 1 (bounds auto); try --bound 9:alpha=0,2'."""
     lo, hi = best.bounds[best.names.index(name)]
+    rigid = {p.name for p in model.law.parameters if p.rigid_upper}
+    if side == "upper" and name.split("@")[0] in rigid:
+        return (f"{name} ended on its upper bound {hi:.4g}, which stands for rigid (an elastic range of a "
+                f"thousandth of the stroke): the record shows no compliance this element could take up")
+    if name in (best.flat_ends or []):
+        return (f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g}; widening it did not lower "
+                f"the OF: the optimum lies at that end (a rigid spring, a vanishing term)")
     if best.bounds_mode == "paper":
         return f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (paper bounds; try --bounds auto)"
     wider = (lo - (hi - lo), hi) if side == "lower" else (lo, hi + (hi - lo))

@@ -84,7 +84,7 @@ def result_from_dict(d: dict) -> FitResult:
                      off=list(d["off"]), tests=list(d.get("tests") or []),
                      test_of=[float(x) for x in d.get("test_of") or []],
                      widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()},
-                     parent=list(d.get("parent") or []))
+                     parent=list(d.get("parent") or []), flat_ends=list(d.get("flat_ends") or []))
 
 
 def record_digest(rec) -> str:

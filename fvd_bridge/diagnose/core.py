@@ -197,10 +197,11 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             keep = {c.effect: c for c in found}
     device = as_device(record)
     test_of = [evaluate_params(model, t, base_fit.params) for t in device.tests]
-    focus = device.tests[int(np.argmax(test_of))]
+    k_focus = int(np.argmax(test_of))
+    focus = device.tests[k_focus]
     F_model = model.force(focus, base_fit.params[None, :])[0]
     noises = [input_noise_floor(model, base_fit.params, t, seed) for t in device.tests]
-    noise = dict(noises[device.tests.index(focus)])
+    noise = dict(noises[k_focus])
     noise["floor"] = float(np.dot(device.weights, [n["floor"] for n in noises]))
     noise["force_floor"] = float(np.dot(device.weights, [n["force_floor"] for n in noises]))
     judge = Judge(noise["floor"], device.n, noise["force_floor"])

@@ -202,7 +202,7 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
         c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), focus, sigma_d)
         c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
         own = set(e.names)
-        c.on_cap = [f"{name} ended on its {side} bound {c.fit.bounds[c.fit.names.index(name)][side == 'upper']:.4g} "
+        c.on_cap = [f"{name} ended on its {side} bound {c.fit.bounds[c.fit.names.index(name)][int(side == 'upper')]:.4g} "
                     f"(the effect's plausible range): the device's effect may be larger than this model allows, "
                     f"or another effect is at work"
                     for name, side in c.fit.on_bound() if name in own]

@@ -11,7 +11,7 @@ from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
 from .layout import Layout
-from .nested import WIDEN_ROUNDS, nested_start, wider_bounds
+from .nested import WIDEN_GAIN, WIDEN_ROUNDS, nested_start, wider_bounds
 from .objective import objective
 from .result import FitResult
 from .space import Space
@@ -82,16 +82,23 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
                          [n for n in per_test if n in parent.names], True, widen)
         start = nested_start(model, layout, pfit.names, pfit.params, device.scales())
         evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), [parent.spec, float(pfit.of)]
+    before, flat = None, []
     for rounds in range(WIDEN_ROUNDS + 1):
         fit = _fit_once(model, device, layout, bounds, {**widened, **overrides}, optimizer, seed, settings,
                         substeps, on_generation, start, mask)
         evals += fit.evaluations
+        if before is not None and not fit.of < before[0].of * (1.0 - WIDEN_GAIN):
+            flat = list(more)  # the optimum lies at that end: keep the fit before the widening
+            fit, widened = before
+            break
         more = wider_bounds(model, fit, overrides) if widen and fit.bounds_mode == "auto" else {}
         if not more or rounds == WIDEN_ROUNDS:
             break
-        widened.update(more)
+        before = (fit, dict(widened))
+        widened = {**widened, **more}
         start = fit.params
     fit.evaluations, fit.wall_s, fit.widened, fit.parent = evals, time.perf_counter() - t0, widened, parent_of
+    fit.flat_ends = flat
     fit.test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0])
                    for k, t in enumerate(device.tests)]
     return fit
@@ -102,7 +109,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends above it."""
     mode, b, space, evaluate = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
-    x0 = None if start is None else space.to_unit(np.clip(start, b[:, 0], b[:, 1]))
+    p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
+    x0 = None if p0 is None else space.to_unit(p0)
     if optimizer == "de":
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
     else:
@@ -112,12 +120,13 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
             x, of = polish(evaluate, x, of, 4000, count)
             evals = count[0]
             history.append(of)
-    if x0 is not None:
-        of0 = float(evaluate(x0[None, :])[0])
-        if of0 < of:
-            x, of = x0, of0
+    params = space.to_params(x)
+    if p0 is not None:  # the start itself, exactly (not through the unit cube)
+        of0 = float(joint_objective(model, device, layout, p0[None, :], mask, substeps)[0])
+        if of0 <= of:
+            params, of = p0, of0
     return FitResult(spec=model.spec, names=layout.names, units=layout.repeat(model.units),
-                     params=space.to_params(x), of=float(of), bounds=b, bounds_mode=mode,
+                     params=params, of=float(of), bounds=b, bounds_mode=mode,
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
                      record=device.name, log=[bool(v) for v in space.log],
                      off=layout.repeat(model.off_values()), tests=list(device.test_names))

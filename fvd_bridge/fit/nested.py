@@ -7,7 +7,9 @@ puts that point into its first population and keeps it should the search
 end above it.  A law parameter that ends on an automatic bound has its bound
 widened (the span doubled on that side, on the log scale for log-searched
 parameters, never past the parameter's physical ``limit``) and the fit
-repeats from its optimum, at most ``WIDEN_ROUNDS`` times.  Effects' bounds
+repeats from its optimum, at most ``WIDEN_ROUNDS`` times, while each
+widening lowers the OF by ``WIDEN_GAIN`` at least (a stiffness whose
+optimum is rigid would otherwise run to infinity).  Effects' bounds
 are their plausibility caps and do not widen.
 """
 
@@ -19,6 +21,9 @@ from .layout import SEP
 
 #: at most this many widen-and-refit rounds per fit
 WIDEN_ROUNDS = 5
+#: a widening is kept only if it lowers the OF by this share; else the optimum
+#: lies at that end (a rigid spring, a vanishing term) and the fit before it stands
+WIDEN_GAIN = 1e-3
 
 
 def nested_start(model, layout, parent_names, parent_params, scales) -> np.ndarray:
@@ -38,10 +43,11 @@ def wider_bounds(model, fit, fixed=()) -> dict:
     ended on an automatic bound; parameters in ``fixed`` (the user's --bound)
     and those at their physical limit stay.  Empty when nothing widens."""
     limits = {p.name: p.limit for p in model.law.parameters}
+    rigid = {p.name for p in model.law.parameters if p.rigid_upper}
     out = {}
     for name, side in fit.on_bound():
         base = name.split(SEP)[0]
-        if base not in limits or base in fixed or base in out:
+        if base not in limits or base in fixed or base in out or (side == "upper" and base in rigid):
             continue
         j = fit.names.index(name)
         lo, hi = (float(x) for x in fit.bounds[j])

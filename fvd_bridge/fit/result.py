@@ -32,6 +32,7 @@ class FitResult:
     test_of: list = field(default_factory=list)  # OF (eq. 18) on each test
     widened: dict = field(default_factory=dict)  # {law parameter: (lower, upper)} automatic bounds widened
     parent: list = field(default_factory=list)  # [spec, OF] of the nested fit it started from ([]: none)
+    flat_ends: list = field(default_factory=list)  # parameters whose bound widened without lowering the OF
 
     def as_dict(self) -> dict:
         d = asdict(self)

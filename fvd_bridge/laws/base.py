@@ -24,7 +24,9 @@ class Parameter:
     velocity v [mm/s] and displacement d [mm]; ``log``: searched on a log
     scale by the default optimizer (parameters spanning decades); ``limit``:
     the physical range an automatic bound may widen to when a fit ends on it
-    (``fit.nested.wider_bounds``).
+    (``fit.nested.wider_bounds``); ``rigid_upper``: a stiffness whose
+    automatic upper bound already means rigid (its elastic range a
+    thousandth of the stroke): it does not widen upwards.
     """
 
     name: str
@@ -34,6 +36,7 @@ class Parameter:
     description: str
     log: bool = False
     limit: tuple[float, float] = (0.0, float("inf"))
+    rigid_upper: bool = False
 
 
 @dataclass(frozen=True)
