@@ -3,7 +3,7 @@ explain their misfit, and export them.  Units everywhere: kN, mm, s.
 
 The names a notebook user needs (imported on first use)::
 
-    from fvd_bridge import read_record, parse_model, calibrate, diagnose_record, Calibration
+    from fvd_bridge import read_record, parse_model, calibrate, diagnose_record, Calibration, Device
 
 (``diagnose_record`` is the ``diagnose`` verb; the plain name belongs to the
 subpackage fvd_bridge.diagnose.)
@@ -18,6 +18,7 @@ _API = {
     "parse_model": ("fvd_bridge.catalog", "parse_model"),
     "calibrate": ("fvd_bridge.api", "calibrate"),
     "Calibration": ("fvd_bridge.calibration", "Calibration"),
+    "Device": ("fvd_bridge.records.device", "Device"),
     "diagnose_record": ("fvd_bridge.api", "diagnose_record"),
 }
 

@@ -158,6 +158,7 @@ def test_changed_campaign_is_refused_in_one_line(reference, tmp_path):
     assert yaml.safe_load(open(out / "records" / "truth.yaml"))["campaign_rig"]["seed"] == 3  # not regenerated
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_local_tables(reference, tmp_path):
     """Process workers (a LocalCluster of 2 single-threaded workers)."""
     path = write_campaign(tmp_path, "dask")

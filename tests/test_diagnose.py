@@ -190,6 +190,7 @@ def test_where_numbers_point_at_the_effect(protocol, lab_dir):
         lv["peak_v"] for lv in w["levels"])
 
 
+@pytest.mark.slow
 def test_custom_effect_example_runs():
     res = subprocess.run([sys.executable, str(REPO / "examples" / "custom_effect.py")], capture_output=True,
                          text=True, env=cli_env(), timeout=600)

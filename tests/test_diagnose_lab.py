@@ -84,9 +84,9 @@ def check_nested(diag):
         assert c.of <= diag.of * (1 + 1e-9), (c.effect, c.of, diag.of)
 
 
-# the larger displacement noise runs in the slow suite (make test-slow, .ci/run)
+# the larger displacement noise and the acceptance protocol run in the slow suite (make test-slow, .ci/run)
 @pytest.mark.parametrize("disp_noise", [DISP_NOISE[0], pytest.param(DISP_NOISE[1], marks=pytest.mark.slow)])
-@pytest.mark.parametrize("protocol_name", PROTOCOLS)
+@pytest.mark.parametrize("protocol_name", ["paper", pytest.param("acceptance", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("effect", tuple(PLANTED))
 def test_planted_effect_on_a_lab_record(protocol_name, effect, disp_noise, folder):
     rec = rig_lab(protocol_name, effect, disp_noise, folder)
@@ -105,7 +105,7 @@ def test_planted_effect_on_a_lab_record(protocol_name, effect, disp_noise, folde
 
 
 @pytest.mark.parametrize("disp_noise", DISP_NOISE)
-@pytest.mark.parametrize("protocol_name", PROTOCOLS)
+@pytest.mark.parametrize("protocol_name", ["paper", pytest.param("acceptance", marks=pytest.mark.slow)])
 def test_no_effect_nothing_suggested_on_a_lab_record(protocol_name, disp_noise, folder):
     rec = rig_lab(protocol_name, "none", disp_noise, folder)
     diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
@@ -228,6 +228,7 @@ def friction_damper(shared_dir):
     return mod.read("arts_brfd_0.5Hz_25lb.csv")
 
 
+@pytest.mark.slow
 def test_real_friction_damper_credits_no_switched_off_effect(friction_damper):
     """Law 9 on the real friction damper: the base matches calibrate's; every
     credited effect is on (switching it off in its refit costs more than the

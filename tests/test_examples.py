@@ -15,6 +15,7 @@ def run_example(name, *args, cwd):
                           capture_output=True, text=True, cwd=cwd, timeout=600)
 
 
+@pytest.mark.slow
 def test_mr_damper_example(device_files, tmp_path):
     out = tmp_path / "mr"
     res = run_example("mr_damper.py", "--out", str(out), "--runs", "1", "--quick", cwd=tmp_path)
@@ -26,6 +27,7 @@ def test_mr_damper_example(device_files, tmp_path):
     assert (out / "figures" / "loops_mr_damper_0V_law9.png").is_file()
 
 
+@pytest.mark.slow
 def test_frames_compare_example(shared_dir, tmp_path):
     """A 2-device series, laws 1, 2, 7 (beta 1), 9 in the 3-story frame under 4 s of El Centro."""
     out = tmp_path / "fr"

@@ -143,7 +143,7 @@ def run_cli(*args, cwd=None):
 def test_options_before_the_verb_and_descriptions(lab_csv, tmp_path):
     res = run_cli("--runs", "1", "--pop", "6", "--gens", "10", "calibrate", str(lab_csv), "--laws", "2",
                   "--columns", "t=time,d=disp,F=load", "--units", "t=ms,d=m,F=N", "--out", str(tmp_path / "c"),
-                  "--jobs", "1", "--quiet", "--no-figures")
+                  "--jobs", "1", "--quiet", "--no-figures", "--intervals", "0")
     assert res.returncode == 0, res.stderr
     assert yaml.safe_load(open(tmp_path / "c" / "summary.json"))["settings"]["runs"] == 1
     for verb in ("calibrate", "laws", "demo", "diagnose", "rig", "inspect", "effects"):

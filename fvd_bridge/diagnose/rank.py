@@ -167,7 +167,7 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
         start = nested_start(model, layout, base_fit.names, base_fit.params, scales)
         t0 = time.perf_counter()
         fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
-                        overrides=base_fit.widened)
+                        overrides=base_fit.widened, widen=False)  # the base's bounds, as the base widened them
         cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0)
         cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, e, scales))
         out.append(cand)
