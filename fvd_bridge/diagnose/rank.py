@@ -201,7 +201,7 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
         ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, len(e.parameters), residual)
         c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), focus, sigma_d)
         c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
-        own = set(e.names)
+        own = set(e.names) if not e.off(c.fit.params[[c.model.names.index(n) for n in e.names]])[0] else set()
         c.on_cap = [f"{name} ended on its {side} bound {c.fit.bounds[c.fit.names.index(name)][int(side == 'upper')]:.4g} "
                     f"(the effect's plausible range): the device's effect may be larger than this model allows, "
                     f"or another effect is at work"
