@@ -88,13 +88,13 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
                         substeps, on_generation, start, mask)
         evals += fit.evaluations
         if before is not None and not fit.of < before[0].of * (1.0 - WIDEN_GAIN):
-            flat = list(more)  # the optimum lies at that end: keep the fit before the widening
-            fit, widened = before
+            fit, widened, tried = before  # the optimum lies at that end: keep the fit before the widening
+            flat = list(tried)
             break
         more = wider_bounds(model, fit, overrides) if widen and fit.bounds_mode == "auto" else {}
         if not more or rounds == WIDEN_ROUNDS:
             break
-        before = (fit, dict(widened))
+        before = (fit, dict(widened), more)
         widened = {**widened, **more}
         start = fit.params
     fit.evaluations, fit.wall_s, fit.widened, fit.parent = evals, time.perf_counter() - t0, widened, parent_of
