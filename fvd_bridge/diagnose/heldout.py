@@ -5,11 +5,10 @@ The record's cycles are dealt into two folds, alternately (cycle 1, 3, 5,
 d), so each fold spans every amplitude and velocity level of the test: a
 fold cut in time would hold the low levels alone and the high ones alone,
 and neither could separate, say, friction from the damping exponent.  Base
-model and candidate are each fitted
-on one half (Nelder-Mead from their full-record optimum, the OF of that
-half's samples; the model still runs over the whole record, so a
-differential law's state is right) and scored on the other half, then the
-halves swap.  The candidate passes when, in both folds, it lowers the
+model and candidate are each fitted on one fold (Nelder-Mead from their
+full-record optimum, the OF of that fold's samples; the model still runs
+over the whole record, so a differential law's state is right) and scored
+on the other fold, then the folds swap.  The candidate passes when, in both folds, it lowers the
 held-out OF by at least ``SHARE`` of the relative drop it brings on the
 whole record: a real effect carries over to cycles it was not fitted to,
 an effect that only fits one part of the record (a transient, one odd
