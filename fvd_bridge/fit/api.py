@@ -85,7 +85,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     before, flat = None, []
     for rounds in range(WIDEN_ROUNDS + 1):
         fit = _fit_once(model, device, layout, bounds, {**widened, **overrides}, optimizer, seed, settings,
-                        substeps, on_generation, start, mask)
+                        substeps, on_generation, start, mask, local=rounds > 0)
         evals += fit.evaluations
         if before is not None and not fit.of < before[0].of * (1.0 - WIDEN_GAIN):
             fit, widened, tried = before  # the optimum lies at that end: keep the fit before the widening
@@ -105,13 +105,19 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
 
 
 def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, settings, substeps, on_generation,
-              start, mask) -> FitResult:
-    """One optimizer run inside fixed bounds; ``start`` is kept if the run ends above it."""
+              start, mask, local: bool = False) -> FitResult:
+    """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
+    above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
+    round: the optimum moves on from where it stopped)."""
     mode, b, space, evaluate = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)
-    if optimizer == "de":
+    if local and x0 is not None:
+        count = [0]
+        x, of = polish(evaluate, x0, float(evaluate(x0[None, :])[0]), getattr(settings, "polish_evals", 4000), count)
+        history, evals = [of], count[0] + 1
+    elif optimizer == "de":
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)

@@ -7,7 +7,8 @@ puts that point into its first population and keeps it should the search
 end above it.  A law parameter that ends on an automatic bound has its bound
 widened (the span doubled on that side, on the log scale for log-searched
 parameters, never past the parameter's physical ``limit``) and the fit
-repeats from its optimum, at most ``WIDEN_ROUNDS`` times, while each
+goes on from its optimum (Nelder-Mead: the optimum moves on along the
+bound it was pressed against), at most ``WIDEN_ROUNDS`` times, while each
 widening lowers the OF by ``WIDEN_GAIN`` at least (a stiffness whose
 optimum is rigid would otherwise run to infinity).  Effects' bounds
 are their plausibility caps and do not widen.
