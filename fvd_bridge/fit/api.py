@@ -11,7 +11,7 @@ from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
 from .layout import Layout
-from .nested import WIDEN_GAIN, WIDEN_ROUNDS, nested_start, wider_bounds
+from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, nested_start, wider_bounds
 from .objective import objective
 from .result import FitResult
 from .space import Space
@@ -115,7 +115,7 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     x0 = None if p0 is None else space.to_unit(p0)
     if local and x0 is not None:
         count = [0]
-        x, of = polish(evaluate, x0, float(evaluate(x0[None, :])[0]), getattr(settings, "polish_evals", 4000), count)
+        x, of = polish(evaluate, x0, float(evaluate(x0[None, :])[0]), WIDEN_EVALS, count)
         history, evals = [of], count[0] + 1
     elif optimizer == "de":
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)

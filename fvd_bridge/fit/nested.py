@@ -22,6 +22,8 @@ from .layout import SEP
 
 #: at most this many widen-and-refit rounds per fit
 WIDEN_ROUNDS = 5
+#: Nelder-Mead evaluations of each round after a widening
+WIDEN_EVALS = 1000
 #: a widening is kept only if it lowers the OF by this share; else the optimum
 #: lies at that end (a rigid spring, a vanishing term) and the fit before it stands
 WIDEN_GAIN = 1e-3
