@@ -23,9 +23,7 @@ from .errors import InputError
 from .fit import fit_model, settings_for
 from .fit.intervals import REPLICATES
 from .fit.intervals import intervals as fit_intervals
-from .fit.layout import Layout
 from .fit.nested import nested_start
-from .records.device import as_device
 
 
 def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = "de",
@@ -44,11 +42,7 @@ def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: st
     if int(runs) < 1:
         raise InputError(f"runs {runs}: must be at least 1")
     settings = settings_for(optimizer, pop, gens)
-    first = None
-    if start is not None:
-        device = as_device(record)
-        first = nested_start(m, Layout(m, tuple(device.test_names), tuple(per_test)), start.model.names,
-                             start.params, device.scales())
+    first = None if start is None else nested_start(m, record, start.model.names, start.params, per_test)
     fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings,
                       per_test=per_test, start=first) for r in range(int(runs))]
     best = min(fits, key=lambda f: f.of)

@@ -19,7 +19,6 @@ from fvd_bridge.calibration import Calibration
 from fvd_bridge.catalog import catalog
 from fvd_bridge.fit import evaluate_params, fit_model
 from fvd_bridge.fit.de import DESettings
-from fvd_bridge.fit.layout import Layout
 from fvd_bridge.fit.nested import nested_start
 from fvd_bridge.records.device import Device
 from fvd_bridge.rig import Device as RigDevice
@@ -96,7 +95,7 @@ def test_an_effect_starts_from_its_base_where_the_search_alone_fails(three_tests
     good = fit_model(cat.model("2"), rec, seed=3)
     alone = fit_model(model, rec, seed=3, settings=tiny, nested=False)
     assert alone.of > good.of  # the search alone ends worse than the base: the guarantee is needed
-    start = nested_start(model, Layout(model, (rec.name,)), good.names, good.params, rec.scales())
+    start = nested_start(model, rec, good.names, good.params)
     assert start[-1] == 0.0  # friction off
     assert fit_model(model, rec, seed=3, settings=tiny, start=start).of <= good.of
     assert fit_model(model, rec, seed=3, settings=tiny).of <= fit_model(cat.model("2"), rec, seed=3, settings=tiny).of

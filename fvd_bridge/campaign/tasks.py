@@ -11,9 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..fit import fit_model, settings_for
-from ..fit.layout import Layout
 from ..fit.nested import nested_start
-from ..records.device import as_device
 
 
 @dataclass(frozen=True)
@@ -48,10 +46,7 @@ def run_task(task: Task, record, cs):
     settings = settings_for(cs.optimizer, cs.pop, cs.gens, cs.stall)
     overrides = {n: b for n, b in cs.overrides_for(task.spec).items() if n in model.names}
     per_test = cs.per_test_for(task.spec)
-    given, start = cs.start_for(task.spec), None
-    if given is not None:
-        device = as_device(record)
-        start = nested_start(model, Layout(model, tuple(device.test_names), per_test), given[0], given[1],
-                             device.scales())
+    given = cs.start_for(task.spec)
+    start = None if given is None else nested_start(model, record, given[0], given[1], per_test)
     return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
                      settings=settings, overrides=overrides, per_test=per_test, start=start)

@@ -42,7 +42,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..fit import evaluate_params, fit_model
-from ..fit.layout import Layout
 from ..fit.nested import nested_start
 from ..records.device import as_device
 from . import sizes
@@ -163,8 +162,7 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
             out.append(old)
             continue
         model = base_model.with_effect(e)
-        layout = Layout(model, tuple(as_device(record).test_names))
-        start = nested_start(model, layout, base_fit.names, base_fit.params, scales)
+        start = nested_start(model, record, base_fit.names, base_fit.params)
         t0 = time.perf_counter()
         fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
                         overrides=base_fit.widened, widen=False)  # the base's bounds, as the base widened them

@@ -80,7 +80,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
         pfit = fit_model(parent, device, bounds, optimizer, seed, settings, substeps, None,
                          {k: v for k, v in overrides.items() if k in parent.names}, None, mask,
                          [n for n in per_test if n in parent.names], True, widen)
-        start = nested_start(model, layout, pfit.names, pfit.params, device.scales())
+        start = nested_start(model, device, pfit.names, pfit.params, per_test)
         evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), [parent.spec, float(pfit.of)]
     before, flat = None, []
     for rounds in range(WIDEN_ROUNDS + 1):

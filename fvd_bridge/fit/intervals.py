@@ -103,11 +103,11 @@ def smoothed(record) -> Record:
 def replicate(record, F_clean: np.ndarray, d_smooth: np.ndarray, sigma_F: float, rng) -> Record:
     """One lab-like replicate of ``record`` (module docstring)."""
     F = F_clean + sigma_F * rng.standard_normal(record.n)
-    if not record.d_noise or (record.provenance or {}).get("velocity", {}).get("method") != "savgol":
-        return Record(record.t, record.d, F, record.v, record.a, record.name)  # a measured v: force noise only
-    d = d_smooth + record.d_noise * rng.standard_normal(record.n)
-    v, a = rederive(record, d)
-    return Record(record.t, d, F, v, a, record.name)
+    d = d_smooth + (record.d_noise or 0.0) * rng.standard_normal(record.n)
+    derived = rederive(record, d) if record.d_noise else None
+    if derived is None:  # a measured velocity: force noise only
+        return Record(record.t, record.d, F, record.v, record.a, record.name)
+    return Record(record.t, d, F, *derived, record.name)
 
 
 def intervals(model, record, params, per_test=(), bounds=None, replicates: int = REPLICATES, seed=0,

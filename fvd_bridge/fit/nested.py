@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .layout import SEP
+from ..records.device import as_device
+from .layout import SEP, Layout
 
 #: at most this many widen-and-refit rounds per fit
 WIDEN_ROUNDS = 5
@@ -29,16 +30,19 @@ WIDEN_EVALS = 1000
 WIDEN_GAIN = 1e-3
 
 
-def nested_start(model, layout, parent_names, parent_params, scales) -> np.ndarray:
-    """The columns of ``layout`` (a fit of ``model``) that reproduce the parent
-    model's fit (``parent_names``, ``parent_params``): shared values copied by
-    name, each added effect at its 'off' values clipped into its bounds (an
-    infinite stiffness is the upper bound)."""
+def nested_start(model, record, parent_names, parent_params, per_test=()) -> np.ndarray:
+    """The parameters of a fit of ``model`` to ``record`` (a Record or a
+    Device, with ``per_test`` parameters per test) that reproduce a parent
+    model's fit (``parent_names``, ``parent_params``): values copied by name
+    (a per-test column without its own takes the shared value), each added
+    effect at its 'off' values clipped into its bounds (an infinite stiffness
+    is the upper bound)."""
+    device = as_device(record)
     values = dict(zip(parent_names, map(float, parent_params)))
     for e in model.effects:
-        for name, none, (lo, hi) in zip(e.names, e.none, e.bounds(scales)):
+        for name, none, (lo, hi) in zip(e.names, e.none, e.bounds(device.scales())):
             values.setdefault(name, float(np.clip(none, lo, hi)))
-    return layout.expand(values)
+    return Layout(model, tuple(device.test_names), tuple(per_test)).expand(values)
 
 
 def wider_bounds(model, fit, fixed=()) -> dict:
