@@ -307,9 +307,10 @@ static Residual series_stage(double q_guess, double a, int code, const double *p
 
 enum { SW, SU, SZ, SW0, SPW, SXL, SQ, SDQ };  /* series_sample's state (w, u, z, W0, pw, x_o, q, dq) */
 
-static void series_rest(double x0, double *state) {
+static void series_rest(double x0, double Ks, double half, double Kp, double F0, double *state) {
     memset(state, 0, N_SPRING * sizeof(double));
-    state[SXL] = x0;
+    if (half == 0.0 && !isinf(Ks) && (Kp != 0.0 || F0 != 0.0)) state[SW] = (Kp * x0 + F0) / (Ks + Kp);
+    state[SXL] = x0 - state[SW];
 }
 
 /* one TR-BDF2 step from the fraction fa to fb of the sample step: state in place, returns F_o, *F the force */
@@ -454,8 +455,8 @@ static void series_sample(int code, const double *p, double a, double ks, double
 }
 
 /* ------------------------------------ the composition (fvd_bridge/effects/compose.py) */
-enum { GAP, SERIES, ASYMMETRY, THERMAL, FRICTION, PARALLEL, INERTIA };  /* effects.catalog.BUILTIN */
-enum { G, KS, R, THETA, FF, KP, F0, MASS };  /* effects.catalog.EFFECT_PARAMETERS */
+enum { GAP, SERIES, OIL, ASYMMETRY, THERMAL, FRICTION, PARALLEL, INERTIA };  /* effects.catalog.BUILTIN */
+enum { G, KS, KO, R, THETA, FF, KP, F0, MASS };  /* effects.catalog.EFFECT_PARAMETERS */
 
 static void law_sample(int code, const double *k, double *s, double v0, double v1, double h, int substeps) {
     for (int j = 0; j < substeps; j++) {
@@ -478,9 +479,22 @@ static bool series_on(const bool *flags, const double *p_eff) {
     return flags[SERIES] && !(p_eff[KS] >= KS_RIGID_FROM);
 }
 
-/* is the law behind a connection (a series spring or an open gap)? */
+static bool oil_on(const bool *flags, const double *p_eff) {
+    return flags[OIL] && !(p_eff[KO] >= KS_RIGID_FROM);
+}
+
+/* is the law behind a connection (a series spring, an oil column or an open gap)? */
 static bool connection_on(const bool *flags, const double *p_eff) {
-    return gap_on(flags, p_eff) || series_on(flags, p_eff);
+    return gap_on(flags, p_eff) || series_on(flags, p_eff) || oil_on(flags, p_eff);
+}
+
+/* Model.refusal: one spring, and no effect behind one connection but beside another (the seal and the
+ * accumulator sit behind a gap but beside an oil column); the rule broken, NULL when there is none */
+static const char *arrangement_problem(const bool *flags) {
+    if (flags[SERIES] && flags[OIL]) return "series_stiffness and oil_column both set the series spring";
+    if (flags[GAP] && flags[OIL] && (flags[FRICTION] || flags[PARALLEL]))
+        return "friction and parallel_stiffness would sit behind the gap but beside the oil column";
+    return NULL;
 }
 
 /* the damper's force at sample k (first: k = 0) of law `code` with
@@ -491,14 +505,19 @@ static double model_history_sample(Damper *m, int code, const double *p_law, con
                                    bool first, double d, double v, double a, double dt, int substeps) {
     const bool gap = gap_on(flags, p_eff);
     const bool series = series_on(flags, p_eff);
-    const bool connected = gap || series;
-    const double ks = series ? p_eff[KS] : INFINITY;  /* a gap alone: a rigid contact */
+    const bool oil = oil_on(flags, p_eff);
+    const bool connected = gap || series || oil;
+    /* a gap alone: a rigid contact */
+    const double ks = series ? p_eff[KS] : (oil ? p_eff[KO] : INFINITY);
     const double half = gap ? gap_half(p_eff[G]) : 0.0;
     /* inside the connection an absent effect is its 'off' value (as compose._connection) */
     const double r = flags[ASYMMETRY] ? p_eff[R] : 0.0;
     const double theta = flags[THERMAL] ? p_eff[THETA] : 0.0;
-    const double Ff = flags[FRICTION] ? p_eff[FF] : 0.0;
-    const bool behind = gap && flags[PARALLEL];  /* the accumulator behind the clearance (compose.BEHIND_GAP) */
+    /* the seal and the accumulator: behind a series spring or a gap, beside an oil column (catalog.OUTSIDE) */
+    const bool rod = connected && !oil;
+    const bool seal_behind = rod && flags[FRICTION];
+    const double Ff = seal_behind ? p_eff[FF] : 0.0;
+    const bool behind = rod && flags[PARALLEL];
     const double kp = behind ? p_eff[KP] : 0.0;
     const double f0 = behind ? p_eff[F0] : 0.0;
     const double h = dt / substeps;
@@ -508,8 +527,8 @@ static double model_history_sample(Damper *m, int code, const double *p_law, con
     if (connected) {
         /* 1. the connection, with the law and the element effects inside */
         if (first) {
-            series_rest(x, m->spring);
-            f = 0.0;
+            series_rest(x, ks, half, kp, f0, m->spring);
+            f = m->spring[SW] != 0.0 ? ks * m->spring[SW] : 0.0;
         } else {
             series_sample(code, p_law, law_exponent(code, p_law), ks, half, r, theta, Ff, kp, f0, m->spring,
                           m->x0, x, m->xv0, xv, m->xa0, xa, dt, substeps, &f, &fo);
@@ -528,10 +547,9 @@ static double model_history_sample(Damper *m, int code, const double *p_law, con
             }
             m->power = p1;
         }
-        /* 3. parallel: friction on the law's velocity (inside the connection with one) */
-        if (flags[FRICTION]) f = f + friction_term(Ff, xv);
     }
-    /* 3. parallel */
+    /* 3. parallel: the seal on the rod's velocity (solved inside a series spring or a gap) */
+    if (flags[FRICTION] && !seal_behind) f = f + friction_term(p_eff[FF], xv);
     if (flags[PARALLEL] && !behind) f = f + parallel_spring(p_eff[KP], p_eff[F0], x);
     if (flags[INERTIA]) f = f + inertia_term(p_eff[MASS], xa);
     m->x0 = x; m->xv0 = xv; m->xa0 = xa;
@@ -541,7 +559,7 @@ static double model_history_sample(Damper *m, int code, const double *p_law, con
 /* the damper at rest before sample 0: the law's and the connection's state zero */
 static void model_rest(Damper *m, int code) {
     new_state(code, m->s_law);
-    series_rest(0.0, m->spring);
+    series_rest(0.0, INFINITY, 0.0, 0.0, 0.0, m->spring);
     m->W0 = 0.0; m->power = 0.0;
     m->x0 = 0.0; m->xv0 = 0.0; m->xa0 = 0.0;
 }
@@ -563,6 +581,7 @@ static const char *effect_parameter_problem(const bool *flags, const double *p_e
         if (flags[effect] && !(cond)) { *index = (i); return (rule); } } while (0)
     RULE(GAP, p_eff[G] >= 0.0, G, "the clearance must be >= 0 mm");
     RULE(SERIES, p_eff[KS] > 0.0, KS, "the series stiffness must be > 0 kN/mm");
+    RULE(OIL, p_eff[KO] > 0.0, KO, "the oil column's stiffness must be > 0 kN/mm");
     RULE(ASYMMETRY, fabs(p_eff[R]) <= 1.0, R, "the asymmetry must be within [-1, 1]");
     RULE(THERMAL, p_eff[THETA] >= 0.0, THETA, "the softening must be >= 0 1/MJ");
     RULE(FRICTION, p_eff[FF] >= 0.0, FF, "the friction must be >= 0 kN");

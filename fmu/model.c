@@ -137,7 +137,13 @@ static Status checkParameters(ModelInstance *comp) {
     rule = effect_parameter_problem(flags, p_eff, &index);
     if (rule) return invalid(comp, EFFECT_PAR_VR[index], rule);
     if (connection_on(flags, p_eff) && !LAW_CONNECTION[m->law]) {
-        logError(comp, "law = %d cannot sit behind a series spring or a gap (series_stiffness, gap).", (int)m->law);
+        logError(comp, "law = %d cannot sit behind a series spring or a gap (series_stiffness, oil_column, gap).",
+                 (int)m->law);
+        return Error;
+    }
+    rule = arrangement_problem(flags);
+    if (rule) {
+        logError(comp, "%s: one connection cannot hold both.", rule);
         return Error;
     }
     return OK;
@@ -285,8 +291,8 @@ Status getFloat64(ModelInstance *comp, ValueReference vr, double *value) {
 Status setFloat64(ModelInstance *comp, ValueReference vr, double value) {
     if (!isFloat64(vr)) return wrongType(comp, vr, "Float64");
     if (settable(comp, vr) != OK) return Error;
-    /* an infinite series stiffness is a rigid connection (effects.catalog: series_stiffness's 'off' value) */
-    if (!isfinite(value) && !((int)vr == EFFECT_PAR_VR[KS] && value == INFINITY)) {
+    /* an infinite spring is a rigid connection (effects.catalog: series_stiffness's and oil_column's 'off' value) */
+    if (!isfinite(value) && !(((int)vr == EFFECT_PAR_VR[KS] || (int)vr == EFFECT_PAR_VR[KO]) && value == INFINITY)) {
         char buf[32];
         logError(comp, "%s = %s: %s must be a finite number.", NAME[vr], shortest(value, buf, sizeof(buf)),
                  vr <= VR_LAST_INPUT ? "an input" : "a parameter");

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .catalog import parse_model
-from .effects.catalog import BUILTIN
+from .effects.catalog import BUILTIN, EFFECTS
 from .laws import LAWS
 from .records import Record
 
@@ -39,10 +39,12 @@ GOLDEN_DIR = Path(__file__).resolve().parents[1] / "tests" / "golden"
 REFERENCE = {number: law.reference for number, law in LAWS.items()}
 #: effect parameters of the model goldens, by effect name (values in the effect's units)
 EFFECT_REFERENCE = {e.name: e.reference for e in BUILTIN}
-#: the model goldens: each effect on law 2 and on law 9, and combinations
+#: the model goldens: each effect on law 2 and on law 9, and combinations (one arrangement of a spring at a
+#: time: the seal behind the spring and beside the oil column)
 MODEL_SPECS = tuple(f"{law}+{e}" for law in (2, 9) for e in EFFECT_REFERENCE) + (
-    "2+series_stiffness+friction", "9+gap+friction", "2+gap+series_stiffness+asymmetry",
-    "2+" + "+".join(EFFECT_REFERENCE))
+    "2+series_stiffness+friction", "2+oil_column+friction+parallel_stiffness", "9+oil_column+friction",
+    "9+gap+friction", "2+gap+series_stiffness+asymmetry",
+    "2+" + "+".join(e for e in EFFECT_REFERENCE if not EFFECTS[e].arrangement_of))
 
 
 def reference_input() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -15,9 +15,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .effects.catalog import EFFECTS
 from .effects.compose import composed_force, inside_connection
 from .errors import InputError
 from .laws import Law
+
+
+def _placement_conflict(effects) -> str:
+    """Why one connection kernel cannot hold ``effects`` ('' when it can): an
+    effect solved behind one of the connection effects (``inside_with``) but
+    beside another (friction with a gap and an oil_column: behind the
+    clearance, beside the oil column)."""
+    connections = [e.name for e in effects if e.stage == "series"]
+    for e in effects:
+        inside = [c for c in connections if c in e.inside_with]
+        if e.stage != "series" and inside and len(inside) < len(connections):
+            beside = next(c for c in connections if c not in inside)
+            return f"{e.name} would sit behind {inside[0]} but beside {beside}: one connection cannot hold both"
+    return ""
 
 
 @dataclass(frozen=True)
@@ -60,7 +75,8 @@ class Model:
         """Why ``effect`` cannot be added to this model ('' when it can), from
         the declarations: a law without a connection takes no series effect,
         an effect appears once, two effects cannot set the same connection
-        argument, parameter names must not clash."""
+        argument, parameter names must not clash, an effect cannot sit behind
+        one connection effect and beside another."""
         if effect.stage == "series" and not self.law.connection:
             return (f"law {self.law.key} ({self.law.name}) cannot sit behind '{effect.name}' "
                     f"(its step form has no connection)")
@@ -71,7 +87,9 @@ class Model:
             return f"effect '{effect.name}' sets the connection's {sorted(taken)[0]}, which another effect sets"
         names = self.names + effect.names
         clash = sorted({n for n in names if names.count(n) > 1})
-        return f"parameter name '{clash[0]}' clashes" if clash else ""
+        if clash:
+            return f"parameter name '{clash[0]}' clashes"
+        return _placement_conflict(self.effects + (effect,))
 
     def with_effect(self, effect, spec_text: str | None = None) -> "Model":
         """This model plus ``effect`` (an Effect); what ``refusal`` refuses is an
@@ -159,7 +177,8 @@ class Model:
             if e.stage == "series" and form.series is None:
                 return f"law {law.key} behind {e.name}"
             if series and e.stage != "series" and e.name in inside:
-                return f"{e.name} inside the series spring"
+                beside = [x.name for x in EFFECTS.values() if x.arrangement_of in {c.name for c in series}]
+                return f"{e.name} inside the series spring" + (f" (beside it: {beside[0]})" if beside else "")
             if e.opensees.needs_stateless and not form.stateless:
                 return f"{e.name} of law {law.key} (TensionOnly loses its state in compression)"
         return ""

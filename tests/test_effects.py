@@ -346,25 +346,25 @@ def test_extreme_parameters_stay_finite():
 
 
 # ------------------------------------------------------------------ a user's series effect
-OIL_COLUMN = Path(__file__).resolve().parents[1] / "examples" / "oil_column.py"
+OIL_COLUMN = Path(__file__).resolve().parents[1] / "examples" / "bulk_modulus.py"
 
 
 def test_a_plugin_series_effect_sets_the_connection():
-    """examples/oil_column.py sets Ks from an oil's bulk modulus: law 2 behind
+    """examples/bulk_modulus.py sets Ks from an oil's bulk modulus: law 2 behind
     it is law 2 + series_stiffness at the same Ks (the same connection
     kernel), its 'off' value is the bare law, and it cannot share Ks with
     series_stiffness."""
     cat = catalog([str(OIL_COLUMN)])
     rec = simulate(Device(C=45.4, alpha=0.3), acceptance(dt=0.005, cycles=2), None, name="probe")
     B = 1500.0
-    F_plugin = cat.model("2+oil_column").force(rec, np.array([[45.4, 0.3, B]]))[0]
+    F_plugin = cat.model("2+bulk_modulus").force(rec, np.array([[45.4, 0.3, B]]))[0]
     F_series = cat.model("2+series_stiffness").force(rec, np.array([[45.4, 0.3, B * 15000.0 / 200.0 * 1e-3]]))[0]
     assert np.max(np.abs(F_plugin - F_series)) <= 1e-9 * np.max(np.abs(F_series))
-    off = cat.model("2+oil_column").force(rec, np.array([[45.4, 0.3, 1e6]]))[0]
+    off = cat.model("2+bulk_modulus").force(rec, np.array([[45.4, 0.3, 1e6]]))[0]
     assert np.array_equal(off, cat.model("2").force(rec, np.array([[45.4, 0.3]]))[0])
     with pytest.raises(InputError, match="sets the connection's Ks"):
-        cat.model("2+oil_column+series_stiffness")
-    assert cat.model("2+oil_column").exports()["fmu"]  # a plugin has no C step form
+        cat.model("2+bulk_modulus+series_stiffness")
+    assert cat.model("2+bulk_modulus").exports()["fmu"]  # a plugin has no C step form
 
 
 @pytest.mark.parametrize("body,words", [

@@ -70,14 +70,16 @@ def test_bound_at_coarse_steps(spec, pars, every):
 
 
 @pytest.mark.parametrize("spec", ["2+asymmetry", "2+friction", "2+parallel_stiffness", "2+series_stiffness",
-                                  "9+friction", "9+parallel_stiffness"])
+                                  "2+oil_column", "2+oil_column+friction+parallel_stiffness", "9+friction",
+                                  "9+parallel_stiffness"])
 def test_model_golden_output(spec):
-    """The exportable model goldens (law 2 or 9 with one effect)."""
+    """The exportable model goldens (law 2 or 9 with effects; an oil column's
+    seal and accumulator beside its ViscousDamper)."""
     pars, t, d, v, a, F = golden(spec)
     res = check(spec, pars, t, d, v, a)
     assert np.max(np.abs(res.F_model - F)) <= 1e-9 * np.max(np.abs(F))
     assert res.of <= res.bound
-    assert res.exact == (spec in ("2+asymmetry", "2+parallel_stiffness", "2+series_stiffness"))
+    assert res.exact == (spec in ("2+asymmetry", "2+parallel_stiffness", "2+series_stiffness", "2+oil_column"))
     assert res.of <= (EXACT_OF if spec.startswith("2") else 0.005)
 
 
@@ -202,7 +204,11 @@ def test_scripts_define_the_same_materials(spec, effects):
 @pytest.mark.parametrize("spec,effects,words", [
     ("7", {"beta": 0.5}, "law 7 with beta = 0.5"),
     ("3+series_stiffness", {"series_stiffness__Ks": 150.0}, "law 3 behind series_stiffness"),
-    ("2+series_stiffness+friction", {"series_stiffness__Ks": 150.0, "friction__Ff": 1.0}, "friction inside"),
+    ("2+series_stiffness+friction", {"series_stiffness__Ks": 150.0, "friction__Ff": 1.0},
+     "friction inside the series spring (beside it: oil_column)"),
+    ("2+series_stiffness+parallel_stiffness",
+     {"series_stiffness__Ks": 150.0, "parallel_stiffness__Kp": 1.0, "parallel_stiffness__F0": 0.0},
+     "parallel_stiffness inside"),
     ("2+gap", {"gap__g": 0.5}, "gap"),
     ("2+thermal_softening", {"thermal_softening__theta": 0.1}, "thermal_softening"),
     ("2+inertia", {"inertia__m": 50.0}, "inertia"),

@@ -30,7 +30,7 @@ series      fn(P) (None: the parameters fill         a tuple of (pop,) values, o
 d [mm], v [mm/s], a [mm/s^2], t [s] are the record's (n_t,) arrays, dt [s]
 its step; x, xv, xa are (pop, n_t) or (1, n_t).  Force is in kN, positive in
 tension.  Within a stage effects apply in increasing ``order`` (built-ins:
-gap 10, series_stiffness 20, asymmetry 40, thermal_softening 50, friction 60,
+gap 10, series_stiffness and oil_column 20, asymmetry 40, thermal_softening 50, friction 60,
 parallel_stiffness 70, inertia 80; a user effect defaults to 100).
 
 The series stage is the connection (``connection.py``): the law in step form
@@ -39,8 +39,9 @@ it fills (``slots``: a series effect, a user's too, sets Ks or g, e.g. Ks
 from an oil column's bulk modulus; the built-in element effects fill the
 element's r, theta, Ff, Kp, F0 with their parameters); an effect
 whose ``inside_with`` names a connection effect of the model is solved inside
-that connection, on the law's own motion (asymmetry, heating and friction
-behind a series spring or gap; the accumulator behind a gap only); a user
+that connection, on the law's own motion (asymmetry and heating behind
+any connection; seal friction and the accumulator behind a series_stiffness
+or a gap, but beside an oil_column, on the rod's full stroke); a user
 effect is then applied outside the connection.
 """
 
@@ -89,7 +90,10 @@ class Effect:
     ``cause_hysteretic``: the cause in words for a friction or hysteretic
     device; ``reference``: parameter values of the golden files;
     ``opensees``: its OpenSees form (None: not expressible, ``no_opensees``
-    says why); ``fmu``: the FMU's C code carries it.
+    says why); ``fmu``: the FMU's C code carries it; ``arrangement_of``: the
+    effect it places elsewhere in the damper (oil_column: series_stiffness's
+    spring, with the seal and accumulator beside it instead of behind it),
+    so that diagnose ranks the two arrangements against each other.
     """
 
     name: str
@@ -112,6 +116,7 @@ class Effect:
     opensees: OpenSeesForm | None = None
     no_opensees: str = ""
     fmu: bool = False
+    arrangement_of: str = ""
 
     @property
     def names(self) -> list[str]:

@@ -1,4 +1,4 @@
-"""The seven built-in physical effects, declared as data (``base.Effect``):
+"""The eight built-in physical effects, declared as data (``base.Effect``):
 parameters, stage, equation, fingerprints (README, "Physical effects"), the
 connection slots they fill, their physical size, golden reference values and
 export targets.
@@ -106,17 +106,19 @@ def thermal_force(P, F, x, xv, dt):
 # ---------------------------------------------------------------- parallel
 def friction_force(P, t, x, xv, xa):
     """Seal friction Ff [kN]: + Ff tanh(u / v_f), v_f = FRICTION_V_F = 1 mm/s
-    (Coulomb friction smoothed over 1 mm/s), u the law's velocity (the
-    pin's velocity xv without a series spring or gap; with one the term is
-    solved inside the connection, element.element_force)."""
+    (Coulomb friction smoothed over 1 mm/s), u the rod's velocity: the pin's
+    velocity xv, also beside an oil column; behind a series_stiffness or a
+    gap the law's own velocity (the term is then solved inside the
+    connection, element.element_force)."""
     return steps.friction_terms(_col(P, 0), np.asarray(xv))  # (steps.friction_term)
 
 
 def parallel_force(P, t, x, xv, xa):
     """Accumulator (gas spring) and preload: + Kp x + F0, Kp [kN/mm], F0 [kN],
-    x [mm] the pin's displacement d.  With a gap the accumulator is behind
-    the clearance (no force passes there at all): the term is solved inside
-    the connection on the law's displacement x_o (connection_force)."""
+    x [mm] the rod's displacement: the pin's d, also beside an oil column;
+    behind a series_stiffness or a gap (no force passes a clearance at all)
+    the term is solved inside the connection on the law's displacement x_o
+    (connection_force)."""
     return steps.parallel_springs(_col(P, 0), _col(P, 1), np.asarray(x))  # (steps.parallel_spring)
 
 
@@ -139,8 +141,16 @@ def _cycle_energy(s):  # dissipated energy of one full cycle [MJ], about pi F d
     return math.pi * s["F"] * s["d"] * 1e-6
 
 
-#: connections can carry every built-in element effect inside them
-CONNECTIONS = ("gap", "series_stiffness")
+#: connections that carry the element's effects of the fluid (asymmetry, heating) inside them
+CONNECTIONS = ("gap", "series_stiffness", "oil_column")
+#: connections with the whole damper behind them (the seal and the accumulator too)
+OUTSIDE = ("gap", "series_stiffness")
+
+
+def _spring(what: str) -> Parameter:
+    return Parameter("Ks", "kN/mm", (10.0, KS_RIGID), lambda s: (min(0.3 * _stiff(s), 1e-3 * KS_RIGID), KS_RIGID),
+                     f"{what}; Ks >= {KS_RIGID:.0e} is rigid", log=True)
+
 
 BUILTIN = (
     Effect(
@@ -159,18 +169,31 @@ BUILTIN = (
     Effect(
         name="series_stiffness", stage="series", order=20, function=None, none=(math.inf,), slots=("Ks",),
         off_rule=_spring_rigid,
-        parameters=(Parameter("Ks", "kN/mm", (10.0, KS_RIGID),
-                              lambda s: (min(0.3 * _stiff(s), 1e-3 * KS_RIGID), KS_RIGID),
-                              f"spring in series with the law (oil, seals, rod, frame); "
-                              f"Ks >= {KS_RIGID:.0e} is a rigid connection", log=True),),
-        equation="F = Ks (d - x) = element(x, dx/dt) (with a gap: Ks dz(d - x, g/2))",
-        summary="fluid compressibility / series flexibility: a spring in series with the orifice "
-                "(Maxwell model)",
+        parameters=(_spring("spring in series with the whole damper (a flexible connection, rod, clevis or "
+                            "frame)"),),
+        equation="F = Ks (d - x) = element(x, dx/dt) (with a gap: Ks dz(d - x, g/2)); "
+                 "seal friction and accumulator behind the spring",
+        summary="series flexibility outside the damper: a connection, rod or frame spring with the whole damper "
+                "(orifice, seal friction, accumulator) behind it (Maxwell model)",
         symptom="force lags the velocity at reversals (tilted loop, force not zero at zero velocity)",
-        cause="the fluid is compressible and the connections flex",
+        cause="the connections flex (or the fluid is compressible)",
         cause_hysteretic="the device's body, connections or supports flex in series with it",
         size=sizes.series_spring, reference=(50.0,), fmu=True,
         opensees=OpenSeesForm("the law's series form (laws 1, 2: ViscousDamper Ks C alpha)", None)),
+    Effect(
+        name="oil_column", stage="series", order=20, function=None, none=(math.inf,), slots=("Ks",),
+        off_rule=_spring_rigid, arrangement_of="series_stiffness",
+        parameters=(_spring("stiffness of the compressible oil column, in series with the orifice only"),),
+        equation="F = Ks (d - x) = orifice(x, dx/dt) + seal friction(d') + accumulator(d): the seal and the "
+                 "accumulator act on the rod's full stroke, beside the oil column and orifice",
+        summary="fluid compressibility inside the damper: the oil column is a spring in series with the orifice, "
+                "while seal friction and the accumulator act on the rod's full stroke beside it",
+        symptom="force lags the velocity at reversals, while a friction force turns at once with the stroke",
+        cause="the oil is compressible (the seal rubs on the rod's full stroke)",
+        cause_hysteretic="the fluid or body of the device is compressible while its rubbing parts follow the rod",
+        size=sizes.series_spring, reference=(50.0,), fmu=True,
+        opensees=OpenSeesForm("the law's series form beside the seal and accumulator "
+                              "(laws 1, 2: Parallel(ViscousDamper Ks C alpha, friction, spring))", None)),
     Effect(
         name="asymmetry", stage="output", order=40, function=asymmetry_force, none=(0.0,), slots=("r",),
         inside_with=CONNECTIONS,
@@ -196,7 +219,7 @@ BUILTIN = (
         no_opensees="thermal_softening (force falling with dissipated energy)"),
     Effect(
         name="friction", stage="parallel", order=60, function=friction_force, none=(0.0,), slots=("Ff",),
-        inside_with=CONNECTIONS,
+        inside_with=OUTSIDE,
         parameters=(Parameter("Ff", "kN", (0.0, 30.0), lambda s: (0.0, 0.3 * s["F"]),
                               "seal friction force"),),
         equation=f"+ Ff tanh(u / v_f), v_f = {FRICTION_V_F:g} mm/s, u the law's velocity",
@@ -207,12 +230,12 @@ BUILTIN = (
         size=sizes.friction, reference=(5.0,), fmu=True, opensees=friction),
     Effect(
         name="parallel_stiffness", stage="parallel", order=70, function=parallel_force, none=(0.0, 0.0),
-        slots=("Kp", "F0"), inside_with=("gap",),
+        slots=("Kp", "F0"), inside_with=OUTSIDE,
         parameters=(Parameter("Kp", "kN/mm", (-5.0, 10.0), lambda s: (-0.5 * _stiff(s), _stiff(s)),
                               "parallel stiffness (accumulator, gas spring)"),
                     Parameter("F0", "kN", (-30.0, 30.0), lambda s: (-0.2 * s["F"], 0.2 * s["F"]),
                               "preload")),
-        equation="+ Kp x + F0 (x = d; with a gap: the law's displacement, behind the clearance)",
+        equation="+ Kp x + F0 (x = d; behind series_stiffness or a gap: the law's displacement)",
         summary="accumulator / gas spring and preload: a static stiffness and an offset force",
         symptom="residual grows with displacement and has an offset",
         cause="pressurised fluid acts as a spring with a preload",

@@ -183,11 +183,13 @@ def series_stage(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, F
 
 
 @njit(cache=True)
-def series_rest(x0):
-    """State of ``series_sample`` at rest: the connection unstretched (a gap's
-    pin centred in its clearance), the law at rest at the body's
-    displacement x0 [mm]; (w, u, z, W0, pw, x_o, q, dq)."""
-    return (0.0, 0.0, 0.0, 0.0, 0.0, x0, 0.0, 0.0)
+def series_rest(x0, Ks, half, Kp, F0):
+    """State of ``series_sample`` at rest, the pin at x0 [mm]: a gap's pin
+    centred in its clearance, the law at rest; a spring (Ks [kN/mm] finite,
+    no gap) holds the accumulator behind it, Kp [kN/mm] and F0 [kN], in
+    equilibrium: Ks w = Kp (x0 - w) + F0.  (w, u, z, W0, pw, x_o, q, dq)."""
+    w = (Kp * x0 + F0) / (Ks + Kp) if half == 0.0 and not math.isinf(Ks) and (Kp != 0.0 or F0 != 0.0) else 0.0
+    return (w, 0.0, 0.0, 0.0, 0.0, x0 - w, 0.0, 0.0)
 
 
 @njit(cache=True)
@@ -400,8 +402,8 @@ def series_population(code, x, xv, xa, dt, Ks, g, P, r, theta, Ff, Kp, F0, subst
     integrated from xv by the same TR-BDF2 rule (``series_advance``).  Each
     stage solves one scalar equation (series_stage); hf from W0 at the
     start of each step.
-    The connection starts unstretched (a gap's pin centred) and the law at
-    rest (series_rest); each member goes sample by sample (series_sample;
+    The connection starts at rest (series_rest: a gap's pin centred, a
+    spring holding the accumulator behind it) and the law at rest; each member goes sample by sample (series_sample;
     a gap's contact events split its steps).
 
     Returns F [kN] (through the connection), u [mm/s] (the law's velocity),
@@ -418,8 +420,9 @@ def series_population(code, x, xv, xa, dt, Ks, g, P, r, theta, Ff, Kp, F0, subst
         p = P[i]
         a = law_exponent(code, p)
         half = gap_half(g[i])
-        state = series_rest(x[ri, 0])
-        XO[i, 0] = x[ri, 0]
+        state = series_rest(x[ri, 0], Ks[i], half, Kp[i], F0[i])
+        XO[i, 0] = state[5]
+        F[i, 0] = Ks[i] * state[0] if state[0] != 0.0 else 0.0
         for k in range(1, n):
             state, F[i, k], FO[i, k] = series_sample(code, p, a, Ks[i], half, r[i], theta[i], Ff[i], Kp[i],
                                                      F0[i], state, x[ri, k - 1], x[ri, k], xv[ri, k - 1], xv[ri, k],

@@ -19,6 +19,11 @@ asymmetry   -                 r: orifice force x (1 + r) in tension, (1 - r)
 Kp          kN/mm             accumulator (parallel) stiffness
 preload     kN                accumulator preload F0
 mass        kg                moving mass m: + m a 1e-6 [kN]
+arrangement                   where Ks sits: 'connection' (a flexible connection
+                              outside the damper: seal friction and accumulator
+                              behind it) or 'oil_column' (the compressible oil
+                              inside it: seal and accumulator on the rod's full
+                              stroke, beside the spring and orifice)
 =========== ================= ==================================================
 """
 
@@ -46,6 +51,8 @@ PARAMETERS = {
     "preload": ("kN", "accumulator preload F0"),
     "mass": ("kg", "moving mass m"),
 }
+#: where the series spring sits (the models' series_stiffness and oil_column); not a drawn parameter
+ARRANGEMENTS = ("connection", "oil_column")
 
 #: parameters drawn lognormally (positive), the others normally (see production_series)
 LOGNORMAL = ("C", "Ks", "friction", "v_friction", "heating", "gap", "Kp", "mass")
@@ -55,7 +62,7 @@ _NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 
 
 def _bad(name, value, rule):
-    unit, desc = PARAMETERS[name]
+    unit, desc = PARAMETERS.get(name, ("-", "where the series spring sits"))
     return InputError(f"rig parameter {name} = {value}: must be {rule} ({desc}, {unit})")
 
 
@@ -63,11 +70,13 @@ def _bad(name, value, rule):
 class Device:
     """True parameters of one virtual damper (see the module table for units).
 
-    Measured force [kN], positive in tension:
-      F = F_s + Kp y + F0 + m a_y 1e-6 + noise
-    with y the displacement after the pin gap and F_s the force of the
-    internal element (orifice with asymmetry and heating, plus friction),
-    carried through the series spring Ks when it is not rigid.
+    Measured force [kN], positive in tension (y the displacement after the
+    pin gap, F_s the force through the series spring Ks, rig/simulate.py):
+      connection:  F = F_s + m a_y 1e-6 + noise, F_s = orifice + friction +
+                   Kp x_o + F0 (the whole damper behind the spring)
+      oil_column:  F = F_s + friction(v_y) + Kp y + F0 + m a_y 1e-6 + noise,
+                   F_s = orifice (the seal and accumulator on the rod)
+    Rigid (Ks None) both are F = orifice + friction + Kp y + F0 + m a_y 1e-6.
     """
 
     C: float = 45.4
@@ -81,11 +90,14 @@ class Device:
     Kp: float = 0.0
     preload: float = 0.0
     mass: float = 0.0
+    arrangement: str = "connection"
     name: str = "device"
 
     def __post_init__(self):
+        if self.arrangement not in ARRANGEMENTS:
+            raise _bad("arrangement", repr(self.arrangement), f"one of {', '.join(ARRANGEMENTS)}")
         for f in fields(self):
-            if f.name == "name":
+            if f.name in ("name", "arrangement"):
                 continue
             value = getattr(self, f.name)
             if f.name == "Ks" and value is None:
@@ -124,7 +136,8 @@ class Device:
         return self.Ks is None
 
     def parameters(self) -> dict:
-        """Physical parameters (no name) as plain floats; Ks None = rigid."""
+        """Physical parameters (no name) as plain floats (the arrangement a
+        word); Ks None = rigid."""
         d = asdict(self)
         d.pop("name")
         return d
@@ -134,7 +147,7 @@ class Device:
 
     @classmethod
     def from_dict(cls, data: dict, where: str = "device") -> "Device":
-        unknown = set(data) - set(PARAMETERS) - {"name"}
+        unknown = set(data) - set(PARAMETERS) - {"name", "arrangement"}
         if unknown:
             raise InputError(f"{where}: unknown rig parameter '{sorted(unknown)[0]}' "
                              f"(known: {', '.join(PARAMETERS)})")

@@ -5,16 +5,19 @@ Internal element (orifice with asymmetry and heating, plus seal friction):
   A = 1 + r when v_o > 0 (tension), 1 - r when v_o < 0;  hf = exp(-theta E).
 It increases strictly with v_o, so it has a unique inverse.
 
-Series spring (Maxwell): S = Ks (y - x_o) = F_int(v_o), v_o = dx_o/dt, so
-  dS/dt = Ks (v_y(t) - v_o(S, E)),   dE/dt = F_o(v_o) v_o 1e-6  [MJ/s],
+Series spring (Maxwell): S = Ks (y - x_o) = F_int(v_o) + Kp x_o + F0
+(the accumulator behind the spring, Kp = F0 = 0 beside it), v_o = dx_o/dt,
+x_o = y - S / Ks, so
+  dS/dt = Ks (v_y(t) - v_o(S, y, E)),   dE/dt = F_o(v_o) v_o 1e-6  [MJ/s],
 F_o the orifice part of F_int (kN mm/s = J/s). The S equation is stiff near
 the force peaks (rate Ks dv_o/dS) and not smooth at S = 0 (v_o ~ S^(1/alpha)).
 
 Integrator: Alexander's 3-stage SDIRK of order 3 (L-stable, stiffly accurate;
 Hairer & Wanner, Solving ODEs II, table IV.6.5), on a node grid that the
 caller aligns with every discontinuity of v_y (contact events of the gap).
-Each stage is one scalar equation
-  F_int(u) + h gamma Ks u = S_base + h gamma Ks v_y(t_stage),
+Each stage is one scalar equation (S = S_base + h gamma Ks (v_y - u),
+k = 1 + Kp / Ks)
+  F_int(u) + k h gamma Ks u = k (S_base + h gamma Ks v_y(t_stage)) - Kp y(t_stage) - F0,
 whose left side increases in u: a bracketed Newton iteration always converges.
 E enters through hf, updated by fixed-point iteration (coupling ~ theta dE).
 """
@@ -94,15 +97,16 @@ def solve_internal(rhs, K, hf, C, alpha, r, Ff, vf, u_guess):
 
 
 @njit(cache=True)
-def _stage(base_S, base_E, vy, K, Ks, e_guess, u_guess, C, alpha, r, theta, Ff, vf, hg):
+def _stage(base_S, base_E, vy, y, K, Ks, Kp, F0, e_guess, u_guess, C, alpha, r, theta, Ff, vf, hg):
     """One implicit stage: returns (u, S, E, kS, kE)."""
     rhs = base_S + K * vy
+    k = 1.0 + Kp / Ks
     e = e_guess
     u = u_guess
     p = 0.0
     for _ in range(30):
         hf = math.exp(-theta * e) if theta > 0.0 else 1.0
-        u = solve_internal(rhs, K, hf, C, alpha, r, Ff, vf, u)
+        u = solve_internal(k * rhs - Kp * y - F0, k * K, hf, C, alpha, r, Ff, vf, u)
         au = abs(u)
         asym = 1.0 + r if u > 0.0 else 1.0 - r
         p = hf * C * asym * au ** alpha * au * 1e-6
@@ -115,18 +119,19 @@ def _stage(base_S, base_E, vy, K, Ks, e_guess, u_guess, C, alpha, r, theta, Ff, 
 
 
 @njit(cache=True)
-def integrate_maxwell(H, VY, C, alpha, r, theta, Ff, vf, Ks, S0, E0):
-    """SDIRK3 over the nodes: H[n] step [s], VY[n, i] damper velocity v_y
-    [mm/s] at the stage times t_n + c_i H[n]. Returns S [kN], E [MJ] and
-    v_o [mm/s] at every node (M + 1 values)."""
+def integrate_maxwell(H, VY, Y, C, alpha, r, theta, Ff, vf, Ks, Kp, F0, S0, E0):
+    """SDIRK3 over the nodes: H[n] step [s], VY[n, i] and Y[n, i] the damper
+    body's velocity v_y [mm/s] and displacement y [mm] at the stage times
+    t_n + c_i H[n]; Kp [kN/mm], F0 [kN] the accumulator behind the spring;
+    S0 [kN] the spring's force at the start (its stretch S0 / Ks). Returns
+    S [kN], E [MJ] and v_o [mm/s] at every node (M + 1 values)."""
     M = H.size
     S = np.empty(M + 1)
     E = np.empty(M + 1)
     U = np.empty(M + 1)
     S[0] = S0
     E[0] = E0
-    hf0 = math.exp(-theta * E0) if theta > 0.0 else 1.0
-    U[0] = solve_internal(S0, 0.0, hf0, C, alpha, r, Ff, vf, 0.0)
+    U[0] = 0.0  # at rest
     u = U[0]
     kE_last = 0.0
     for n in range(M):
@@ -135,15 +140,15 @@ def integrate_maxwell(H, VY, C, alpha, r, theta, Ff, vf, Ks, S0, E0):
         K = hg * Ks
         s0 = S[n]
         e0 = E[n]
-        u1, S1, E1, k1, q1 = _stage(s0, e0, VY[n, 0], K, Ks, e0 + hg * kE_last, u,
+        u1, S1, E1, k1, q1 = _stage(s0, e0, VY[n, 0], Y[n, 0], K, Ks, Kp, F0, e0 + hg * kE_last, u,
                                     C, alpha, r, theta, Ff, vf, hg)
         bS = s0 + h * A21 * k1
         bE = e0 + h * A21 * q1
-        u2, S2, E2, k2, q2 = _stage(bS, bE, VY[n, 1], K, Ks, bE + hg * q1, u1,
+        u2, S2, E2, k2, q2 = _stage(bS, bE, VY[n, 1], Y[n, 1], K, Ks, Kp, F0, bE + hg * q1, u1,
                                     C, alpha, r, theta, Ff, vf, hg)
         bS = s0 + h * (B1 * k1 + B2 * k2)
         bE = e0 + h * (B1 * q1 + B2 * q2)
-        u3, S3, E3, k3, q3 = _stage(bS, bE, VY[n, 2], K, Ks, bE + hg * q2, u2,
+        u3, S3, E3, k3, q3 = _stage(bS, bE, VY[n, 2], Y[n, 2], K, Ks, Kp, F0, bE + hg * q2, u2,
                                     C, alpha, r, theta, Ff, vf, hg)
         S[n + 1] = S3
         E[n + 1] = E3

@@ -10,11 +10,17 @@ Physics (positive force = tension; d the imposed displacement [mm]):
 2. Internal element: F_int(v_o) = hf C A sign(v_o)|v_o|^alpha + Ff tanh(v_o/v_f),
    A = 1 + r in tension (F_o > 0) and 1 - r in compression, hf = exp(-theta E),
    E [MJ] = 1e-6 integral F_o v_o dt (F_o the orifice part, with A and hf).
-3. Series spring Ks: F_s = Ks (y - x_o) = F_int(v_o), x_o the piston
-   displacement, starting at rest (F_s = 0). Rigid (Ks None): v_o = v_y and
+3. Series spring Ks, where the device's ``arrangement`` puts it:
+   'connection' (outside the damper): Ks (y - x_o) = F_int(v_o) + Kp x_o + F0,
+   the seal and the accumulator behind the spring; 'oil_column' (the
+   compressible oil inside the damper): Ks (y - x_o) = F_o(v_o) only, the
+   seal Ff tanh(v_y / v_f) and the accumulator Kp y + F0 on the rod beside
+   it.  x_o the piston displacement, starting at rest (the spring holding
+   the accumulator's force).  Rigid (Ks None): v_o = v_y and
    F_s = F_int(v_y); then E has the closed form
    exp(theta E) = 1 + theta W0, W0 = 1e-6 integral C A |v_y|^(1+alpha) dt.
-4. Measured force F = F_s + Kp y + F0 + m a_y 1e-6 + force noise;
+4. Measured force F = the spring's force (plus, beside an oil column or
+   without a spring, the seal and Kp y + F0) + m a_y 1e-6 + force noise;
    measured displacement d + displacement noise (default 0.005 mm).
 
 Accuracy: the motion is the protocol's analytic d, v, a (never samples);
@@ -235,9 +241,11 @@ def trace(device: Device, protocol: Protocol, substeps: int | None = None) -> di
     Keys (arrays): t [s], d, v, a (imposed, exact) [mm, mm/s, mm/s^2];
     y, v_y, a_y (after the gap), contact (bool), v_o (orifice velocity)
     [mm/s], x_o (piston displacement) [mm], E (orifice energy) [MJ],
-    heat_factor hf [-], F_orifice, F_friction, F_series (= F_orifice +
-    F_friction, carried by Ks), F_parallel (Kp y + F0), F_inertia (m a_y 1e-6),
-    F (their sum) [kN]; 'substeps' (int) and 'nodes' (number of integration nodes).
+    heat_factor hf [-], F_orifice, F_friction, F_series (the element behind
+    Ks: F_orifice + F_friction, or F_orifice alone beside an oil column),
+    F_parallel (Kp x + F0, x = x_o behind a connection's spring, else y),
+    F_inertia (m a_y 1e-6), F (the measured force) [kN]; 'substeps' (int)
+    and 'nodes' (number of integration nodes).
     """
     if not isinstance(device, Device):
         raise TypeError("device must be a fvd_bridge.rig.Device")
@@ -276,20 +284,32 @@ def trace(device: Device, protocol: Protocol, substeps: int | None = None) -> di
         F_f = device.friction * np.tanh(v_o / device.v_friction) if device.friction else np.zeros_like(v_o)
         F_s = F_o + F_f
         x_o = y
+        F_p = device.Kp * y + device.preload
+        F_beside = 0.0
     else:
         tq = T[:-1, None] + STAGE_C[None, :] * H[:, None]
-        _, vq, _ = protocol.motion(tq.ravel())
-        VY = vq.reshape(tq.shape) * (pl.side[piece_step] != 0)[:, None]
-        S, En, U = integrate_maxwell(H, np.ascontiguousarray(VY), device.C, device.alpha, r, th,
-                                     device.friction, device.v_friction, device.Ks, 0.0, 0.0)
-        F_s, E, v_o = S[idx], En[idx], U[idx]
+        dq, vq, aq = (m.ravel() for m in protocol.motion(tq.ravel()))
+        yq, vyq, _, _ = pl.apply(tq.ravel(), dq, vq, aq, np.repeat(piece_step, STAGE_C.size))
+        VY, YQ = vyq.reshape(tq.shape), yq.reshape(tq.shape)
+        behind = device.arrangement == "connection"  # the seal and the accumulator behind the spring
+        Ff, Kp, F0 = (device.friction, device.Kp, device.preload) if behind else (0.0, 0.0, 0.0)
+        S0 = Kp * y[0] + F0  # at rest: the spring holds the accumulator's force
+        S, En, U = integrate_maxwell(H, np.ascontiguousarray(VY), np.ascontiguousarray(YQ), device.C,
+                                     device.alpha, r, th, Ff, device.v_friction, device.Ks, Kp, F0, S0, 0.0)
+        S, E, v_o = S[idx], En[idx], U[idx]
         hf = np.exp(-th * E)
         F_o = orifice_force(v_o, device, hf)
-        F_f = device.friction * np.tanh(v_o / device.v_friction)
-        x_o = y - F_s / device.Ks
-    F_p = device.Kp * y + device.preload
+        x_o = y - S / device.Ks
+        if behind:
+            F_f = device.friction * np.tanh(v_o / device.v_friction)
+            F_p = device.Kp * x_o + device.preload
+            F_s, F_beside = S - F_p, 0.0
+        else:  # the seal on the rod's velocity, the accumulator on its displacement
+            F_f = device.friction * np.tanh(v_y / device.v_friction)
+            F_p = device.Kp * y + device.preload
+            F_s, F_beside = S, F_f
     F_m = device.mass * a_y * 1e-6
-    F = F_s + F_p + F_m
+    F = F_s + F_beside + F_p + F_m
     return {"t": ts, "d": d, "v": v, "a": a, "y": y, "v_y": v_y, "a_y": a_y, "contact": contact,
             "v_o": v_o, "x_o": x_o, "E": E, "heat_factor": np.broadcast_to(hf, ts.shape).copy(),
             "F_orifice": F_o, "F_friction": F_f, "F_series": F_s, "F_parallel": F_p,
