@@ -11,7 +11,8 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
     fvd_bridge_version: '0.2.0'
     model: 2+friction                    # the spec: law number + effects
     law: {number, name, equation, source}
-    effects: [{name, equation}, ...]
+    effects: [{name, equation, summary}, ...] (summary: what the effect is and, for a
+             spring, where it sits: series_stiffness or oil_column)
     units: {force: kN, displacement: mm, time: s}
     parameters:                          # model order: the law's, then 'effect.param'
       C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs,
@@ -188,7 +189,7 @@ class Calibration:
             "fvd_bridge_version": __version__,
             "model": self.spec,
             "law": {"number": law.number, "name": law.name, "equation": law.equation, "source": law.source},
-            "effects": [{"name": e.name, "equation": e.equation} for e in self.model.effects],
+            "effects": [{"name": e.name, "equation": e.equation, "summary": e.summary} for e in self.model.effects],
             "units": dict(UNITS),
             "parameters": {
                 n: {"value": float(v), "unit": u, "bounds": [_num(lo), _num(hi)],

@@ -7,6 +7,7 @@ import math
 from ..errors import InputError
 from ..rig import (DEMO_NOISE, DEMO_SCATTER, PARAMETERS, Device, Noise, demo_series, from_spec, production_series,
                    write_series)
+from ..rig.device import ARRANGEMENTS
 from ..rig.simulate import DISPLACEMENT_NOISE
 
 #: CLI flag -> Device field
@@ -49,6 +50,10 @@ def add_parser(sub):
     g.add_argument("--Kp", metavar="X", help="accumulator stiffness [kN/mm] (default 0)")
     g.add_argument("--preload", metavar="X", help="accumulator preload [kN] (default 0)")
     g.add_argument("--mass", metavar="X", help="moving mass [kg] (default 0)")
+    g.add_argument("--arrangement", choices=ARRANGEMENTS,
+                   help="where Ks sits: 'connection' (a flexible connection outside the damper, the seal and "
+                        "accumulator behind it; default) or 'oil_column' (the compressible oil inside it, the "
+                        "seal and accumulator on the rod beside it)")
     g.add_argument("--scatter", metavar="S",
                    help="manufacturing scatter: one relative std for every parameter (e.g. 0.05) "
                         "or per parameter (e.g. C=0.05,Ks=0.2)")
@@ -120,8 +125,9 @@ def run(args) -> int:
     params = _device_args(args)
     scatter = _scatter(args.scatter)
     if args.demo:
-        if params or scatter:
-            given = ", ".join(f"--{k}" for k in list(params) + (["scatter"] if scatter else []))
+        if params or scatter or args.arrangement:
+            given = ", ".join(f"--{k}" for k in list(params) + (["scatter"] if scatter else [])
+                              + (["arrangement"] if args.arrangement else []))
             raise InputError(f"--demo sets the device parameters itself; drop {given}")
         n = _int("devices", args.devices, 1) if args.devices is not None else 5
         devices = demo_series(seed, n)
@@ -130,7 +136,7 @@ def run(args) -> int:
         disp = DEMO_NOISE["displacement"] if args.disp_noise is None else _float("disp-noise", args.disp_noise)
     else:
         n = _int("devices", args.devices, 1) if args.devices is not None else 1
-        nominal = Device(**params)
+        nominal = Device(**params, **({"arrangement": args.arrangement} if args.arrangement else {}))
         devices = production_series(n, nominal, scatter, seed)
         force = 0.0 if args.noise is None else _float("noise", args.noise)
         disp = DISPLACEMENT_NOISE if args.disp_noise is None else _float("disp-noise", args.disp_noise)

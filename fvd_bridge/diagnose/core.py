@@ -182,7 +182,8 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     found: list = []
     if candidates:
         def report(c):
-            say(f"  + {c.effect:<20s} OF {c.of:.5g} ({(base_fit.of - c.of) / base_fit.of:+.1%}, {c.wall_s:.1f} s)")
+            label = f"~ {c.effect} for {c.replaces}" if c.replaces else f"+ {c.effect}"
+            say(f"  {label:<22s} OF {c.of:.5g} ({(base_fit.of - c.of) / base_fit.of:+.1%}, {c.wall_s:.1f} s)")
 
         keep: dict = {}
         for _ in range(MAX_BASE_ROUNDS):
@@ -194,7 +195,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
             base_fit.params, base_fit.of = params, of
             history.append(("lowered by a candidate's refit", float(of)))
-            keep = {c.effect: c for c in found}
+            keep = {c.effect: c for c in found if not c.replaces}
     device = as_device(record)
     test_of = [evaluate_params(model, t, base_fit.params) for t in device.tests]
     k_focus = int(np.argmax(test_of))

@@ -78,6 +78,7 @@ class Candidate:
     fit: object
     of: float
     wall_s: float = 0.0
+    replaces: str = ""  # another arrangement: the effect of the base this one takes the place of
     off_of: float = math.inf  # the refit's OF with the effect alone switched off
     improvement: float = 0.0  # (OF_base - OF) / OF_base
     delta_bic: float = 0.0
@@ -101,7 +102,8 @@ class Candidate:
 
     def as_dict(self) -> dict:
         exports = self.exports
-        return {"effect": self.effect, "spec": self.spec, "of": self.of, "improvement": self.improvement,
+        return {"effect": self.effect, "replaces": self.replaces, "spec": self.spec, "of": self.of,
+                "improvement": self.improvement,
                 "delta_bic": self.delta_bic, "significant": self.significant, "reason": self.reason,
                 "explanation": self.explanation, "size": self.size.text if self.size else "",
                 "detectable": bool(self.size.detectable) if self.size else True,
@@ -145,39 +147,74 @@ class Judge:
         return True, "helps beyond noise", dbic, n_eff
 
 
+def placed_alike(model, a, b) -> bool:
+    """Do connection effects ``a`` and ``b`` hold the same effects of ``model``
+    behind them (``inside_with``)?  Then the model is the same with either:
+    an oil column and a connection spring differ only where a seal or an
+    accumulator sits beside the one and behind the other."""
+    return all((a.name in e.inside_with) == (b.name in e.inside_with) for e in model.effects if e.stage != "series")
+
+
+def arrangements(model, effects: dict) -> list[tuple]:
+    """(effect of ``model``, its other arrangement among ``effects``) pairs
+    (``Effect.arrangement_of``) that give ``model`` another force."""
+    return [(x, y) for x in model.effects for y in effects.values()
+            if (y.arrangement_of == x.name or x.arrangement_of == y.name) and not placed_alike(model, x, y)]
+
+
+def _refit(model, record, start, base_fit, seed, settings, name, replaces, scales, progress):
+    t0 = time.perf_counter()
+    fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
+                    overrides=base_fit.widened, widen=False)  # the base's bounds, as the base widened them
+    cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0, replaces)
+    effect = model.effects[-1]
+    cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, effect, scales))
+    if progress:
+        progress(cand)
+    return cand
+
+
 def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, progress=None,
               keep: dict | None = None) -> list[Candidate]:
     """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) that
     the model can take (``Model.refusal``: not already in it, not a series
-    effect on a law without a connection, ...), from the nested start; a
+    effect on a law without a connection, ...; an arrangement that gives the
+    same model as the effect it rearranges once), from the nested start; a
     candidate in ``keep`` ({effect: Candidate}) whose OF is not above the
-    base's is kept as it is."""
+    base's is kept as it is.  Then each effect of the base in its other
+    arrangement (``arrangements``: the seal behind a connection's spring or
+    beside an oil column), from the base's values."""
     scales = record.scales()
     out = []
     for name, e in effects.items():
         if base_model.refusal(e):
             continue
+        other = effects.get(e.arrangement_of)
+        if other is not None and not base_model.refusal(other) and placed_alike(base_model, e, other):
+            continue  # the same model as with the effect it rearranges
         old = (keep or {}).get(name)
         if old is not None and old.of <= base_fit.of:
             out.append(old)
             continue
         model = base_model.with_effect(e)
         start = nested_start(model, record, base_fit.names, base_fit.params)
-        t0 = time.perf_counter()
-        fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
-                        overrides=base_fit.widened, widen=False)  # the base's bounds, as the base widened them
-        cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0)
-        cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, e, scales))
-        out.append(cand)
-        if progress:
-            progress(cand)
+        out.append(_refit(model, record, start, base_fit, seed, settings, name, "", scales, progress))
+    values = dict(zip(base_fit.names, map(float, base_fit.params)))
+    for old, new in arrangements(base_model, effects):
+        rest = base_model.without_effect(old.name)
+        if rest.refusal(new):
+            continue
+        model = rest.with_effect(new)
+        given = dict(values, **{n: values[o] for o, n in zip(old.names, new.names)})
+        start = nested_start(model, record, list(given), list(given.values()))
+        out.append(_refit(model, record, start, base_fit, seed, settings, new.name, old.name, scales, progress))
     return out
 
 
 def lower_base(candidates, base_model) -> tuple[float, np.ndarray | None]:
     """(OF, base parameters) of the best candidate refit with its effect
     switched off, when that is below the base: the base can go lower."""
-    best = min(candidates, key=lambda c: c.off_of, default=None)
+    best = min((c for c in candidates if not c.replaces), key=lambda c: c.off_of, default=None)
     if best is None:
         return math.inf, None
     cols = best.model.columns_without(best.effect)
@@ -196,9 +233,12 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
         e = c.model.effects[-1]
         c.improvement = float((base_fit.of - c.of) / base_fit.of) if base_fit.of > 0 else 0.0
         residual = np.concatenate([t.F - c.model.force(t, c.fit.params[None, :])[0] for t in tests])
-        ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, len(e.parameters), residual)
+        dk = len(c.model.parameters) - len(base_model.parameters)
+        ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, dk, residual)
         c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), focus, sigma_d)
         c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
+        if c.replaces:
+            c.explanation = f"{e.summary}; replace {c.replaces} by {e.name} ({c.size.text})"
         own = set(e.names) if not e.off(c.fit.params[[c.model.names.index(n) for n in e.names]])[0] else set()
         c.on_cap = [f"{name} ended on its {side} bound {c.fit.bounds[c.fit.names.index(name)][int(side == 'upper')]:.4g} "
                     f"(the effect's plausible range): the device's effect may be larger than this model allows, "

@@ -47,7 +47,7 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
                      f"{(pof - diag.of) / pof:.0%} lower" if pof > diag.of else
                      f"no gain over {pspec} (OF {pof:.4g})")
     for name, side in diag.on_bound():
-        rigid = name.endswith("series_stiffness.Ks") and side == "upper"
+        rigid = name.endswith(".Ks") and side == "upper"
         lines.append(f"  note: {name} ended on its {side} bound" + (" (a rigid connection)" if rigid else ""))
     floor_kN = mean_abs_noise(diag.noise_std)
     lines.append("")
@@ -61,6 +61,9 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
         lines.append(f"  {'rank':<5}{'effect':<21}{'OF':>9}{'gain':>8}  verdict")
         for k, c in enumerate(diag.candidates, 1):
             lines.append(f"  {k:<5}{c.effect:<21}{c.of:>9.4g}{max(c.improvement, 0.0):>8.1%}  {c.reason}")
+            if c.replaces:
+                lines.append(f"  {'':<26}{'':>8}{'':>8}  in place of {c.replaces} (the same spring, arranged "
+                             f"otherwise)")
             if c.size is not None:
                 lines.append(f"  {'':<26}{'':>8}{'':>8}  fitted: {c.size.text}")
             for note in c.on_cap:
