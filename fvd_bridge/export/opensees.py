@@ -34,6 +34,7 @@ law / effect            OpenSees materials                                  kind
                         Viscous C 1)
 series_stiffness        laws 1, 2: ViscousDamper Ks C alpha                 exact   7.9e-5 (2)
                         law 7, beta 1: ViscousDamper K Ks/(K+Ks) C alpha    exact   9.1e-5 [b]
+oil_column              as series_stiffness, seal and accumulator beside    exact   7.9e-5 (2)
 asymmetry               laws 1-5: Parallel(TensionOnly(M),                  exact   9e-17 (2)
                         TensionOnly(Multiplier M -1)) -factors a b [a]
 friction                Damper(ElasticMultiLinear table of Ff tanh(v/v_f))  approx  9e-7 (2)
@@ -68,8 +69,9 @@ friction: |F error| <= FRICTION_TABLE_ERROR Ff (effects/opensees_forms.py).
 
 Not expressible (InputError; use the FMU export): law 7 with beta != 1 (a
 power-law spring behind the dashpot); series_stiffness on laws 3-6, 8, 9
-(SeriesMaterial passes no strain rate to its members); friction or asymmetry
-inside the series spring; asymmetry of laws 6-9 (TensionOnly does not commit
+(SeriesMaterial passes no strain rate to its members); friction, the
+accumulator or asymmetry inside the series spring (series_stiffness;
+oil_column holds the seal and accumulator beside it); asymmetry of laws 6-9 (TensionOnly does not commit
 a state under compression); gap (a dead zone in series with the law:
 SeriesMaterial passes no strain rate to the law, and ViscousDamper's LGap,
 which zeroes its force over a travel LGap after each force reversal and
