@@ -199,12 +199,12 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
         model = base_model.with_effect(e)
         start = nested_start(model, record, base_fit.names, base_fit.params)
         out.append(_refit(model, record, start, base_fit, seed, settings, name, "", scales, progress))
-    values = dict(zip(base_fit.names, map(float, base_fit.params)))
     for old, new in arrangements(base_model, effects):
         rest = base_model.without_effect(old.name)
         if rest.refusal(new):
             continue
         model = rest.with_effect(new)
+        values = dict(zip(base_fit.names, map(float, base_fit.params)))
         given = dict(values, **{n: values[o] for o, n in zip(old.names, new.names)})
         start = nested_start(model, record, list(given), list(given.values()))
         out.append(_refit(model, record, start, base_fit, seed, settings, new.name, old.name, scales, progress))
