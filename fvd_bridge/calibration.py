@@ -292,7 +292,7 @@ def record_provenance(record) -> dict:
     scales = record.scales()
     return {"name": record.name, "file": prov.get("file"), "format": prov.get("format"),
             "samples": record.n, "dt": record.dt, "columns": prov.get("columns"), "window": prov.get("window"),
-            "source_units": prov.get("units"), "velocity": prov.get("velocity"),
+            "source_units": prov.get("units"), "reading": prov.get("reading"), "velocity": prov.get("velocity"),
             "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
 
 

@@ -381,3 +381,40 @@ def test_declared_targets_hold(number):
         else:
             res = check(model, params, t, d, v)
             assert res.of <= res.bound, (spec, res.of, res.bound)
+
+
+def test_check_reads_the_calibration_record_as_it_was_read(tmp_path):
+    """A lab file in its own columns and units (time, stroke [m], load [N],
+    no sidecar) is calibrated with reading options; the calibration file
+    keeps them (record.reading), and `export opensees --check` without a
+    record reads it the same way: the same samples, the same derived
+    velocity, the check passes."""
+    import yaml
+
+    from fvd_bridge import cli
+    from fvd_bridge.calibration import Calibration
+    from fvd_bridge.commands.common import read_as_calibrated, read_records
+    from fvd_bridge.rig import Device, Noise, paper, simulate
+
+    rec = simulate(Device(C=45.4, alpha=0.3, Ks=150.0, friction=3.0, arrangement="oil_column"),
+                   paper(cycles=3, dt=0.004), Noise(0.5, 0.005), seed=2)
+    path = tmp_path / "lab.csv"
+    np.savetxt(path, np.column_stack([rec.t, rec.d / 1000.0, rec.F * 1000.0]), delimiter=",",
+               header="time,stroke,load", comments="")
+    reading = ["--columns", "t=time,d=stroke,F=load", "--units", "d=m,F=N", "--window", "0.1,3.3"]
+    out = tmp_path / "cal"
+    assert cli.main(["calibrate", str(path), *reading, "--laws", "2+oil_column+friction", "--runs", "1",
+                     "--intervals", "0", "--out", str(out), "--quiet", "--no-figures", "--jobs", "1"]) == 0
+    params = out / "params" / "lab" / "law2+oil_column+friction.yaml"
+    stored = yaml.safe_load(open(params))["record"]
+    assert stored["reading"] == {"columns": {"t": "time", "d": "stroke", "F": "load"}, "units": {"d": "m", "F": "N"}}
+    cal = Calibration.load(str(params))
+    args = cli.build_parser("export").parse_args(["export", "opensees", str(params), "--check"])
+    again = read_as_calibrated(cal.record, args)
+    first = read_records([str(path)], cli.build_parser("export").parse_args(
+        ["export", "opensees", str(params), "--check", str(path), *reading]))[0]
+    assert again.n == first.n and np.array_equal(again.v, first.v) and np.array_equal(again.F, first.F)
+    res = _export(str(params), "-o", str(tmp_path / "damper.py"), "--check")
+    assert res.returncode == 0, res.stderr
+    assert "check on lab" in res.stderr and "within the bound" in res.stderr
+    assert "ViscousDamper" in (tmp_path / "damper.py").read_text()

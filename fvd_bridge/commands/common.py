@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import argparse
 import os
+import warnings
 
 import numpy as np
 
 from ..errors import InputError
 from ..records import ReadOptions, parse_mapping, read_record
 from ..records.options import NO_COLUMN
+from ..records.readers import RecordWarning
 
 
 def add_record_options(p: argparse.ArgumentParser) -> None:
@@ -61,6 +63,28 @@ def read_records(paths, args):
     opts = read_options(args)
     records = [read_record(p, opts) for p in paths]
     return [window(r, args.window) for r in records] if getattr(args, "window", None) else records
+
+
+#: ``--check`` without a value: the calibration record
+CALIBRATION_RECORD = "<the calibration record>"
+#: the verbs' reading options (add_record_options)
+READING = ("columns", "units", "mat_var", "dt", "sg_window", "window")
+
+
+def read_as_calibrated(block: dict, args):
+    """The calibration's record (its file's ``record`` block) read again as
+    calibrate read it (its stored reading options and window), or with the
+    verb's reading options where the user gives any; None when the file is
+    not there."""
+    path = block.get("file")
+    if not path or not os.path.isfile(path):
+        return None
+    if any(getattr(args, key, None) is not None for key in READING):
+        return read_records([path], args)[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RecordWarning)  # said when the record was calibrated
+        record = read_record(path, ReadOptions.from_dict(block.get("reading")))
+    return window(record, ",".join(map(str, block["window"]))) if block.get("window") else record
 
 
 def quiet_opensees() -> None:

@@ -12,7 +12,7 @@ from ..errors import InputError
 from ..fit import objective
 from ..golden import golden_record, reference_input
 from ..io.staging import atomic_file
-from .common import add_record_options, quiet_opensees, read_records
+from .common import CALIBRATION_RECORD, add_record_options, quiet_opensees, read_as_calibrated, read_records
 
 
 def add_parser(sub):
@@ -32,9 +32,10 @@ def add_parser(sub):
     o.add_argument("params", metavar="PARAMS.yaml", help="calibration file")
     o.add_argument("-o", "--output", metavar="FILE", help="damper.py or damper.tcl (default: print to stdout)")
     o.add_argument("--tag", type=int, default=1, help="material tag of the damper (helpers get tag+1, ...)")
-    o.add_argument("--check", metavar="RECORD",
-                   help="drive the OpenSees material with this record's displacement and compare its force with "
-                        "fvd_bridge's model (eq. 18); exit 1 with a figure when it misses the documented bound")
+    o.add_argument("--check", metavar="RECORD", nargs="?", const=CALIBRATION_RECORD,
+                   help="drive the OpenSees material with this record's displacement (without RECORD: the "
+                        "calibration record, read as it was read) and compare its force with fvd_bridge's model "
+                        "(eq. 18); exit 1 with a figure when it misses the documented bound")
     add_record_options(o)
     o.set_defaults(func=run_opensees)
     f = targets.add_parser("fmu", help="FMI 3.0 co-simulation FMU of the calibrated damper",
@@ -67,7 +68,14 @@ def run_opensees(args) -> int:
         lang = ext[1:]
     cal = Calibration.load(args.params)
     export = opensees_export(cal.model, cal.named(), args.tag)
-    record = read_records([args.check], args)[0] if args.check else None
+    record = None
+    if args.check == CALIBRATION_RECORD:
+        record = read_as_calibrated(cal.record or {}, args)
+        if record is None:
+            raise InputError(f"--check: the calibration record of {args.params} is not found "
+                             f"({(cal.record or {}).get('file')}); give --check RECORD")
+    elif args.check:
+        record = read_records([args.check], args)[0]
     if record is not None:
         _warn_beyond(cal, record)
     script = f"# {cal.tested_text()}\n" + to_script(export, lang)  # '#' starts a comment in Python and Tcl
@@ -116,18 +124,21 @@ def _warn_beyond(cal, record) -> None:
 
 
 def _fmu_check_record(cal, args):
-    """The record the FMU is checked on: --check, the calibration record, or
-    the golden input (when the calibration record is gone, or cannot be
-    read without reading options the file does not keep: said on stderr)."""
-    path = args.check or (cal.record or {}).get("file")
+    """The record the FMU is checked on: --check, the calibration record
+    (read as it was read), or the golden input when that record is gone
+    (said on stderr)."""
     if args.check:
-        return read_records([path], args)[0]
-    if path and os.path.isfile(path):
-        try:
-            return read_records([path], args)[0]
-        except InputError as exc:
-            print(f"warning: checked on the golden input: the calibration record needs its reading options "
-                  f"(give --check RECORD with them): {exc}", file=sys.stderr)
+        return read_records([args.check], args)[0]
+    try:
+        record = read_as_calibrated(cal.record or {}, args)
+    except InputError as exc:  # a file written before calibration files kept their reading options
+        print(f"warning: checked on the golden input: the calibration record needs its reading options "
+              f"(give --check RECORD with them): {exc}", file=sys.stderr)
+    else:
+        if record is not None:
+            return record
+        print(f"warning: checked on the golden input: the calibration record "
+              f"({(cal.record or {}).get('file')}) is not found; give --check RECORD", file=sys.stderr)
     t, d, v, a = reference_input()
     return golden_record({"t": t, "d": d, "v": v, "a": a})
 

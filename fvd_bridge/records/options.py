@@ -50,6 +50,18 @@ class ReadOptions:
     derive_velocity: bool = False
     sidecar: str | None = None
 
+    def as_dict(self) -> dict:
+        """The options a user gave (the sidecar completes them again on reading)."""
+        out = {"columns": dict(self.columns), "units": dict(self.units), "mat_var": self.mat_var, "dt": self.dt,
+               "sg_window": self.sg_window, "sg_order": self.sg_order, "derive_velocity": self.derive_velocity}
+        return {k: v for k, v in out.items() if v not in (None, {}, False) and not (k == "sg_order" and v == 3)}
+
+    @classmethod
+    def from_dict(cls, data: dict | None) -> "ReadOptions":
+        """Options stored by ``as_dict`` (a calibration file's record.reading)."""
+        keys = ("columns", "units", "mat_var", "dt", "sg_window", "sg_order", "derive_velocity")
+        return cls(**{k: v for k, v in (data or {}).items() if k in keys})
+
 
 def parse_mapping(text: str | None, option: str) -> dict:
     """'t=time,d=disp' -> {'t': 'time', 'd': 'disp'}; refuses keys other than t, d, F, v."""

@@ -41,9 +41,11 @@ def read_record(path: str, opts: ReadOptions | None = None, name: str | None = N
         raise InputError(f"{path}: no such file")
     if os.path.isdir(path):
         raise InputError(f"{path}: is a directory, not a record file")
-    opts = _checked(path, with_sidecar(path, opts or ReadOptions()))
+    given = opts or ReadOptions()
+    opts = _checked(path, with_sidecar(path, given))
     raw = read_mat(path, opts) if path.lower().endswith(".mat") else read_csv(path, opts)
     rec = _assemble(path, raw, opts, name)
+    rec.provenance["reading"] = given.as_dict()  # read again as it was read (export --check, compare)
     for note in rec.warnings:
         warnings.warn(note, RecordWarning, stacklevel=2)
     return rec
