@@ -236,9 +236,6 @@ def run(args) -> int:
     apply_config(args)
     cs = campaign_settings(args)
     records = unique_names(read_records(args.records, args))
-    for r in records:
-        for w in r.warnings:
-            print(f"warning: {w}", file=sys.stderr)
     records = group_device(records, args)
     tests = f" ({len(records[0].tests)} tests)" if args.device else ""
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "

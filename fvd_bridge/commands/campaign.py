@@ -200,9 +200,6 @@ def run(args) -> int:
     store = UnitStore(p["out"], source=args.campaign)
     store.check(p["settings"])  # a changed campaign is refused before anything is written
     records = load_records(p, args.campaign)
-    for r in records:
-        for w in r.warnings:
-            print(f"warning: {w}", file=sys.stderr)
     executor, kind = make_executor(p, args)
     store.open(p["settings"], records)
     _remove_stale_staging(p["out"])

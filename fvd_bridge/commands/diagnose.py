@@ -69,9 +69,6 @@ def run(args) -> int:
     if len(records) > 1 and not args.device:
         raise InputError(f"{len(records)} records: give --device NAME (they are the tests of one device), "
                          f"or diagnose one record at a time")
-    for r in records:
-        for w in r.warnings:
-            print(f"warning: {w}", file=sys.stderr)
     record = Device(args.device, unique_names(records)) if args.device else records[0]
     label = " ".join(args.record)
 

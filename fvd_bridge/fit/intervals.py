@@ -23,7 +23,9 @@ theta_b the replicates' estimates:
 
 (the bias the chain adds is taken out of the interval, not hidden in it;
 it grows with the squared noise estimates, known to 5-10%, so a quarter
-of it is counted as uncertain).
+of it is counted as uncertain).  An interval always holds its estimate
+(where the bias exceeds 1.96 stderr it reaches to the estimate) and stays
+inside the search bounds.
 The intervals are those of the noise: a model that misses the record by
 more than the noise floor has parameters that depend on what it misses
 (``diagnose``).  The correlation matrix is that of theta_b; a parameter is
@@ -149,7 +151,9 @@ def summarize(model, layout, params: np.ndarray, estimates: np.ndarray, bounds=N
     bias = estimates.mean(axis=0) - params
     stderr = np.hypot(estimates.std(axis=0, ddof=1), BIAS_SHARE * bias)
     centre = params - bias
-    ci = np.column_stack([centre - Z95 * stderr, centre + Z95 * stderr])
+    ci = np.column_stack([np.minimum(centre - Z95 * stderr, params), np.maximum(centre + Z95 * stderr, params)])
+    if bounds is not None:  # no value beyond the search: the model is not defined there
+        ci = np.clip(ci, np.asarray(bounds, dtype=float)[:, :1], np.asarray(bounds, dtype=float)[:, 1:])
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = np.corrcoef(estimates, rowvar=False) if len(names) > 1 else np.ones((1, 1))
     corr = np.where(np.isfinite(corr), corr, 0.0)
@@ -176,7 +180,10 @@ def summarize(model, layout, params: np.ndarray, estimates: np.ndarray, bounds=N
                                       f"[{p['ci95'][0]:.4g}, {p['ci95'][1]:.4g}]")
             continue
         lo, hi = ci[j]
-        if bounds is not None and (lo <= bounds[j][0] < params[j] or hi >= bounds[j][1] > params[j]):
+        if bounds is not None and params[j] in (bounds[j][0], bounds[j][1]):
+            out.not_identified.append(f"{name}: ended on its search bound [{bounds[j][0]:.4g}, {bounds[j][1]:.4g}]"
+                                      f", so its interval is one-sided")
+        elif bounds is not None and (lo <= bounds[j][0] < params[j] or hi >= bounds[j][1] > params[j]):
             out.not_identified.append(f"{name}: its 95% interval [{lo:.4g}, {hi:.4g}] reaches its search bound "
                                       f"[{bounds[j][0]:.4g}, {bounds[j][1]:.4g}]")
         partners = [names[k] for k in range(len(names)) if k != j and abs(corr[j, k]) > CORRELATED]
