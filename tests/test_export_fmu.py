@@ -556,8 +556,8 @@ def test_export_fmu_verb_on_a_calibrated_rig_device(tmp_path):
     assert bad.returncode == 2 and "must end in .fmu" in bad.stderr
     missing = _export_fmu(str(tmp_path / "none.yaml"), "-o", str(tmp_path / "x.fmu"))
     assert missing.returncode == 2 and "none.yaml" in missing.stderr and not (tmp_path / "x.fmu").exists()
-    # a record read with --columns: the calibration file does not keep the reading options, so the
-    # export says it checks on the golden input instead of failing
+    # a record read with --columns: the calibration file keeps the reading options, and the export
+    # checks on the record read the same way
     from fvd_bridge.records import ReadOptions
 
     rec = read_record(csv_path)
@@ -567,4 +567,9 @@ def test_export_fmu_verb_on_a_calibrated_rig_device(tmp_path):
     params = calibrate(read_record(str(named), opts), "2", pop=8, gens=40).save(str(tmp_path / "law2.yaml"))
     res = _export_fmu(params, "-o", str(tmp_path / "named.fmu"))
     assert res.returncode == 0, res.stderr[-2000:]
-    assert "checked on the golden input" in res.stderr and "check on golden" in res.stderr
+    assert "check on named: " in res.stderr and "golden" not in res.stderr
+    # the record gone: said, and checked on the golden input
+    named.unlink()
+    res = _export_fmu(params, "-o", str(tmp_path / "named2.fmu"))
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert "is not found" in res.stderr and "check on golden" in res.stderr
