@@ -20,3 +20,36 @@ def factor(quantity: str, unit: str, where: str = "") -> float:
     if unit not in table:
         raise InputError(f"{where}unknown unit '{unit}' for {quantity} (known: {', '.join(table)})")
     return table[unit]
+
+
+#: the package's own unit system {F, d, t}
+SYSTEM = {"F": "kN", "d": "mm", "t": "s"}
+
+
+def unit_system(text, where: str = "--units") -> dict:
+    """'kN,m,s' (FORCE,LENGTH,TIME) -> {'F': 'kN', 'd': 'm', 't': 's'}; a dict
+    is checked as it is; None is the package's kN, mm, s."""
+    if text is None:
+        return dict(SYSTEM)
+    parts = [text[k] for k in "Fdt"] if isinstance(text, dict) else [p.strip() for p in str(text).split(",")]
+    if len(parts) != 3:
+        raise InputError(f"{where} '{text}': expected FORCE,LENGTH,TIME, e.g. kN,m,s or N,mm,s or kip,in,s")
+    for quantity, unit in zip("Fdt", parts):
+        factor(quantity, unit, f"{where} '{text}': ")
+    return dict(zip("Fdt", parts))
+
+
+def in_system(value: float, unit: str, system: dict, exponents: dict | None = None) -> float:
+    """``value`` in the registry's ``unit`` string (kN, mm, s; e.g.
+    'kN/(mm/s)^alpha', an exponent named by a parameter in ``exponents``)
+    expressed in ``system`` ({F, d, t}, ``unit_system``): a dashpot's C with
+    exponent alpha scales with LENGTH^alpha, not LENGTH."""
+    if unit in ("-", "") or system == SYSTEM:
+        return float(value)
+    scale = {"kN": 1.0 / factor("F", system["F"]), "mm": 1.0 / factor("d", system["d"]),
+             "s": 1.0 / factor("t", system["t"])}
+    try:
+        k = eval(unit.replace("^", "**"), {"__builtins__": {}}, {**scale, **(exponents or {})})  # registry text
+    except Exception:
+        raise InputError(f"unit '{unit}': cannot be written in {system['F']}, {system['d']}, {system['t']}") from None
+    return float(value) * float(k)

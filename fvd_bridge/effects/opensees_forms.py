@@ -54,8 +54,8 @@ def _friction(s, p: dict) -> int:
     strain, DamperMaterial.cpp) around an ``ElasticMultiLinear`` table."""
     s.notes.append(f"friction tanh tabulated to {FRICTION_TABLE_ERROR:g} Ff")
     s.tabulated += FRICTION_TABLE_ERROR * abs(p["Ff"])
-    v, F = friction_table(p["Ff"])
-    return s.mat("Damper", s.mat("ElasticMultiLinear", "-strain", *v, "-stress", *F))
+    v, F = friction_table(p["Ff"])  # v in mm/s: in the export's units
+    return s.mat("Damper", s.mat("ElasticMultiLinear", "-strain", *(x * s.velocity for x in v), "-stress", *F))
 
 
 def _parallel_spring(s, p: dict) -> int:

@@ -82,7 +82,7 @@ a material); plugin effects.  Effects at their 'off' values are left out.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -92,6 +92,7 @@ from ..errors import InputError
 from ..model import Model
 from ..opensees_commands import NOT_IN_TCL, apply, listed  # noqa: F401 (re-exported)
 from ..opensees_commands import to_script as commands_script
+from ..units import SYSTEM, factor, in_system, unit_system
 
 #: OF (eq. 18) of an exact mapping at step ratios up to STEP_REF (the golden input's 0.0113)
 EXACT_OF = 2e-4
@@ -126,6 +127,12 @@ class Export:
     hysteretic: bool = False
     tabulated: float = 0.0
     global_step: bool = False
+    units: dict = field(default_factory=lambda: dict(SYSTEM))
+    helpers: int = 0
+
+    def to_kN(self, F) -> np.ndarray:
+        """The material's force in its units -> kN."""
+        return np.asarray(F, dtype=float) * factor("F", self.units["F"])
 
     def bound(self, d, F) -> float:
         """OF (eq. 18) within which OpenSees reproduces the model force F [kN]
@@ -134,15 +141,16 @@ class Export:
         of = EXACT_OF * max(1.0, (s / STEP_REF) ** 2)
         of += HYSTERESIS_OF_RATE * s if self.hysteretic else 0.0
         std = float(np.std(F))
-        return of + (self.tabulated / std if std > 0.0 else 0.0)
+        return of + (float(self.to_kN(self.tabulated)) / std if std > 0.0 else 0.0)
 
 
 class _Script:
-    """Commands under construction; helper materials get tags tag+1, tag+2, ..."""
+    """Commands under construction; helper materials get tags tag+1, tag+2, ...;
+    ``velocity``: 1 mm/s in the export's units (forms that tabulate in velocity)."""
 
-    def __init__(self, tag: int):
+    def __init__(self, tag: int, velocity: float = 1.0):
         self.tag, self.next, self.commands, self.notes = tag, tag + 1, [], []
-        self.tabulated, self.global_step = 0.0, False
+        self.tabulated, self.global_step, self.velocity = 0.0, False, velocity
 
     def mat(self, kind: str, *args, global_step: bool = False) -> int:
         """A material of this kind with the next tag; ``global_step``: it
@@ -175,25 +183,31 @@ def _values(model, params: dict) -> dict:
     return p
 
 
-def opensees_export(model, params: dict, tag: int = 1) -> Export:
+def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
     """The model's OpenSees materials; the damper is material ``tag``.
 
     ``model``: a Model or its spec ('2+friction'); ``params``: {name: value}
-    in the model's units (``Calibration.named()``).  Raises InputError for
-    what OpenSees cannot express (module docstring)."""
+    in the model's units (``Calibration.named()``); ``units``: the OpenSees
+    model's FORCE,LENGTH,TIME ('kN,m,s', or a dict {F, d, t}; default kN,
+    mm, s): every value is written in them (``units.in_system``, from each
+    parameter's declared unit).  Raises InputError for what OpenSees cannot
+    express (module docstring)."""
     model = model if isinstance(model, Model) else parse_model(model)
+    system = unit_system(units)
     p = _values(model, params)
     refusal = model.opensees_refusal(p)
     if refusal:
         raise InputError(f"model {model.spec}: OpenSees has no material for {refusal}; {FMU_HINT}")
+    active = ordered(model.active_effects(p))
+    exponents = {n: p[n] for n in model.law.names}
+    p = {n: in_system(p[n], q.unit, system, exponents) for n, q in zip(model.names, model.parameters)}
     form = model.law.opensees
     law = {n: p[n] for n in model.law.names}
-    active = ordered(model.active_effects(p))
 
     def own(e):  # the effect's parameters without its prefix
         return {q.name: p[n] for q, n in zip(e.parameters, e.names)}
 
-    s = _Script(int(tag))
+    s = _Script(int(tag), in_system(1.0, "mm/s", system))
     series = [e for e in active if e.stage == "series"]
     element = form.series(s, law, *own(series[0]).values()) if series else form.build(s, law)
     for e in (e for e in active if e.stage == "output"):
@@ -201,7 +215,8 @@ def opensees_export(model, params: dict, tag: int = 1) -> Export:
     tags = [element] + [e.opensees.build(s, own(e)) for e in active if e.stage == "parallel"]
     commands = s.finish(s.parallel(tags))
     return Export(model.spec, commands, s.tag, not s.notes, "; ".join(s.notes) or "exact",
-                  hysteretic=form.accuracy == "hysteretic", tabulated=s.tabulated, global_step=s.global_step)
+                  hysteretic=form.accuracy == "hysteretic", tabulated=s.tabulated, global_step=s.global_step,
+                  units=system, helpers=len(commands) - 1)
 
 
 # ------------------------------------------------------------------ output

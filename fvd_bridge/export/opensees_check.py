@@ -15,6 +15,7 @@ from ..fit.objective import objective
 from ..catalog import parse_model
 from ..model import Model
 from ..records.record import Record
+from ..units import factor
 from .opensees import apply, listed, opensees_export
 
 def _ops():
@@ -125,9 +126,12 @@ def check(model, params: dict, t, d, v=None, a=None, element: bool = False, subs
     a = np.gradient(v, t) if a is None else np.asarray(a, dtype=float)
     record = Record(t, d, np.zeros_like(t), v, a, name="check")
     F_model = model.force(record, np.array([[params[n] for n in model.names]]), substeps)[0]
+    # in the export's own units (kN, mm, s unless it was written in others), its force back in kN
+    kt, kd = factor("t", export.units["t"]), factor("d", export.units["d"])
     if element:
-        F_ops = drive_element(export, export.tag, t, d)
+        F_ops = drive_element(export, export.tag, t / kt, d / kd)
     else:
-        F_ops = drive_material(export, export.tag, t, d, v)
+        F_ops = drive_material(export, export.tag, t / kt, d / kd, v * kt / kd)
+    F_ops = export.to_kN(F_ops)
     return CheckResult(float(objective(F_model, F_ops, t)), export.bound(d, F_model), export.exact,
                        F_ops, F_model)
