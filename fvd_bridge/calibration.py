@@ -135,6 +135,20 @@ class Calibration:
         where = f"device {self.device or (self.record or {}).get('name', '?')}, {n} test{'s' if n > 1 else ''}"
         return f"tested up to {' and '.join(parts)}{freq} ({where}); beyond it the model extrapolates"
 
+    def provenance_lines(self) -> list[str]:
+        """What an export's header says of the calibration: its record and tested range."""
+        name = (self.record or {}).get("name")
+        return [*([f"calibrated on record {name}"] if name else []), self.tested_text()]
+
+    def to_opensees(self, tag: int = 1, units=None, lang: str = "py") -> str:
+        """The damper as an OpenSeesPy ('py') or Tcl ('tcl') script defining
+        ``define_damper(ops, tag)`` with every value in ``units`` (the OpenSees
+        model's FORCE,LENGTH,TIME, e.g. 'kN,m,s'; default kN, mm, s), as
+        ``fvd-bridge export opensees`` writes it."""
+        from .export.opensees import opensees_export, to_script
+
+        return to_script(opensees_export(self.model, self.named(), tag, units=units), lang, self.provenance_lines())
+
     def params_for(self, test: str) -> np.ndarray:
         """The parameter vector on one test (parameters fitted per test take that test's value)."""
         names = [t["name"] for t in self.tests]

@@ -31,7 +31,16 @@ def unit_system(text, where: str = "--units") -> dict:
     is checked as it is; None is the package's kN, mm, s."""
     if text is None:
         return dict(SYSTEM)
-    parts = [text[k] for k in "Fdt"] if isinstance(text, dict) else [p.strip() for p in str(text).split(",")]
+    if isinstance(text, dict):
+        parts = [text[k] for k in "Fdt"]
+    elif "=" in str(text):  # F=kN,d=m[,t=s]: the package's unit where one is not given
+        given = dict(item.split("=", 1) for item in str(text).replace(" ", "").split(",") if "=" in item)
+        unknown = sorted(set(given) - set("Fdt"))
+        if unknown:
+            raise InputError(f"{where} '{text}': unknown quantity '{unknown[0]}' (F, d or t)")
+        parts = [given.get(k, SYSTEM[k]) for k in "Fdt"]
+    else:
+        parts = [p.strip() for p in str(text).split(",")]
     if len(parts) != 3:
         raise InputError(f"{where} '{text}': expected FORCE,LENGTH,TIME, e.g. kN,m,s or N,mm,s or kip,in,s")
     for quantity, unit in zip("Fdt", parts):

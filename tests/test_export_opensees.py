@@ -3,7 +3,6 @@ what cannot be exported, and a linear SDOF against its closed form."""
 
 from __future__ import annotations
 
-import ast
 import math
 import re
 
@@ -155,16 +154,18 @@ def test_tags():
     assert sorted(tags[:-1]) == list(range(101, 101 + len(tags) - 1))
 
 
-def _parse_py(text: str) -> list:
-    out = []
-    for line in text.splitlines():
-        if line.startswith("ops."):
-            name, args = line[4:].split("(", 1)
-            out.append((name, *ast.literal_eval("(" + args[:-1] + ",)")))
-    return out
+class _Recorder:
+    """An ops stand-in that records the calls a script makes."""
+
+    def __init__(self):
+        self.calls = []
+
+    def __getattr__(self, name):
+        return lambda *args: self.calls.append((name, *args))
 
 
-def _parse_tcl(text: str) -> list:
+def _parse_tcl(text: str, tag: int) -> list:
+    """The commands of the script's proc body with $tag = ``tag``."""
     def value(token):
         if token.lstrip("-").isdigit():
             return int(token)
@@ -172,8 +173,14 @@ def _parse_tcl(text: str) -> list:
             return float(token)
         except ValueError:
             return token
-    return [tuple(value(tok) if i else tok for i, tok in enumerate(line.split()))
-            for line in text.splitlines() if line and not line.startswith("#")]
+    body = text[text.index("proc define_damper {tag} {"):].splitlines()[1:]
+    out = []
+    for line in body:
+        if line.strip() in ("return $tag", "}"):
+            break
+        line = re.sub(r"\[expr \{\$tag \+ (\d+)\}\]", lambda m: str(tag + int(m.group(1))), line)
+        out.append(tuple(value(tok) for tok in line.replace("$tag", str(tag)).split()))
+    return out
 
 
 @pytest.mark.parametrize("spec,effects", [
@@ -182,18 +189,28 @@ def _parse_tcl(text: str) -> list:
      {"asymmetry__r": 0.1, "friction__Ff": 2.0, "parallel_stiffness__Kp": 1.0, "parallel_stiffness__F0": 3.0}),
 ])
 def test_scripts_define_the_same_materials(spec, effects):
+    """The Python and Tcl scripts define the export's materials through
+    define_damper under any tag (helpers above it); run as it is, the Python
+    script defines material 5 in a fresh OpenSees model."""
     model, pars = with_effects(spec, **effects)
     export = opensees_export(model, pars, tag=5)
     py, tcl = to_script(export, "py"), to_script(export, "tcl")
-    assert py.splitlines()[2] == "import openseespy.opensees as ops"
-    assert _parse_py(py) == export.commands == _parse_tcl(tcl)
+    assert "import openseespy.opensees as ops" in py.splitlines()
+    namespace = {"__name__": "damper"}
+    exec(py, namespace)  # imported: nothing defined yet
+    rec = _Recorder()
+    assert namespace["define_damper"](rec, 40) == 40
+    shifted = opensees_export(model, pars, tag=40).commands
+    assert rec.calls == shifted == _parse_tcl(tcl, 40)
+    assert namespace["HELPER_TAGS"] == len(export.commands) - 1
     assert ("# needs TensionOnly" in tcl) == any(c[1] == "TensionOnly" for c in export.commands)
     if spec == "2":
-        assert tcl.splitlines()[-1] == "uniaxialMaterial Viscous 5 45.0 0.3"
+        assert tcl.splitlines()[-1] == "if {![info exists fvd_bridge_define_only]} { define_damper 5 }"
+        assert "# solving: a power-law dashpot with alpha < 0.5" in py
     import openseespy.opensees as ops
     ops.wipe()
     ops.model("basic", "-ndm", 1, "-ndf", 1)
-    exec(py, {})  # the script runs as written and defines the damper
+    exec(py, {"__name__": "__main__"})  # the script runs as written and defines the damper
     ops.testUniaxialMaterial(5)
     ops.setStrain(0.1, 2.0)
     # ViscousDamper is NaN before an analysis has set the time step (opensees_check.drive_material)
@@ -294,7 +311,7 @@ def calibrated(tmp_path_factory):
     out = tmp_path_factory.mktemp("exp")
     path = write_series(str(out / "rec"), [Device(C=45.4, alpha=0.3, friction=3.0, name="dev")], paper(cycles=3),
                         Noise(force=1.0, displacement=0.005), seed=3)[0]
-    res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "1-9,2+gap",
+    res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "1-9,2+gap,2+friction",
                           "--runs", "1", "--pop", "8", "--gens", "40", "--out", str(out / "cal"), "--jobs", "1",
                           "--quiet", "--no-figures", "--intervals", "0"], capture_output=True, text=True, env=cli_env())
     assert res.returncode == 0, res.stderr
@@ -332,9 +349,11 @@ def test_export_verb_checks_on_the_calibration_record(calibrated, tmp_path, law)
 
     ops.wipe()
     ops.model("basic", "-ndm", 1, "-ndf", 1)
-    exec(out.read_text().replace("import openseespy.opensees as ops", ""), {"ops": ops})
+    namespace = {}
+    exec(out.read_text(), namespace)
+    namespace["define_damper"](ops, 1000)
     if law == "7":  # ViscousDamper integrates over the analysis step: NaN before a transient step
-        assert "'ViscousDamper', 1000" in out.read_text()
+        assert "ops.uniaxialMaterial('ViscousDamper', tag, " in out.read_text()
     else:
         ops.testUniaxialMaterial(1000)
         ops.setStrain(1.0, 100.0)
@@ -412,9 +431,121 @@ def test_check_reads_the_calibration_record_as_it_was_read(tmp_path):
     args = cli.build_parser("export").parse_args(["export", "opensees", str(params), "--check"])
     again = read_as_calibrated(cal.record, args)
     first = read_records([str(path)], cli.build_parser("export").parse_args(
-        ["export", "opensees", str(params), "--check", str(path), *reading]))[0]
+        ["export", "opensees", str(params), "--check", str(path),
+         *[("--record-units" if r == "--units" else r) for r in reading]]))[0]
     assert again.n == first.n and np.array_equal(again.v, first.v) and np.array_equal(again.F, first.F)
     res = _export(str(params), "-o", str(tmp_path / "damper.py"), "--check")
     assert res.returncode == 0, res.stderr
     assert "check on lab" in res.stderr and "within the bound" in res.stderr
     assert "ViscousDamper" in (tmp_path / "damper.py").read_text()
+
+
+# ------------------------------------------------------------ the engineer's own model
+def _metre_harness(define, tag: int, t, d_m) -> np.ndarray:
+    """An SDOF-free harness of the test's own: a zeroLength element whose
+    free node follows d_m [m] (a Path series on a penalty sp constraint, Newmark
+    average acceleration), beside the caller's own material 1 (an elastic
+    spring of 1 kN/m on a second element); returns the damper's force."""
+    import openseespy.opensees as ops
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.uniaxialMaterial("Elastic", 1, 1.0)  # the user's material 1
+    define(ops, tag)
+    ops.node(1, 0.0)
+    ops.node(2, 0.0)
+    ops.fix(1, 1)
+    ops.element("zeroLength", 1, 1, 2, "-mat", tag, "-dir", 1)
+    ops.element("zeroLength", 2, 1, 2, "-mat", 1, "-dir", 1)
+    dt = t[1] - t[0]
+    ops.timeSeries("Path", 1, "-dt", dt, "-values", *d_m)
+    ops.pattern("Plain", 1, 1)
+    ops.sp(2, 1, 1.0)
+    ops.constraints("Penalty", 1e14, 1e14)
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 20)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    F = [0.0]
+    for _ in range(len(t) - 1):
+        assert ops.analyze(1, dt) == 0
+        F.append(ops.eleResponse(1, "force")[1])
+    ops.wipe()
+    return np.array(F)
+
+
+@pytest.mark.parametrize("law", ["2", "8"])
+def test_export_in_metres_drives_a_metre_model(calibrated, tmp_path, law):
+    """`export opensees --units kN,m,s`: the script, driven in metres by the
+    harness above, gives the law's force written here independently in kN,
+    m, s (law 2: C (1000 v)^alpha; law 8: C 1000 v plus an elastic-perfectly-
+    plastic spring 1000 K with yield mu N); the default kN-mm script driven in
+    metres would be off by 1000^alpha.  The header names the units."""
+    params, _ = calibrated
+    out = tmp_path / "damper_m.py"
+    res = _export(str(params / f"law{law}.yaml"), "-o", str(out), "--units", "kN,m,s", "--tag", "7")
+    assert res.returncode == 0, res.stderr
+    text = out.read_text()
+    assert "# units: force kN, length m, time s" in text and "# calibrated on record dev" in text
+    from fvd_bridge.calibration import Calibration
+
+    assert Calibration.load(str(params / f"law{law}.yaml")).to_opensees(7, units="kN,m,s") == text
+    namespace = {}
+    exec(text, namespace)
+    from fvd_bridge.calibration import Calibration
+
+    p = Calibration.load(str(params / f"law{law}.yaml")).named()
+    t = np.arange(0.0, 3.0, 0.002)
+    d_m = 0.02 * np.sin(2 * np.pi * t) * np.minimum(t / 0.5, 1.0)
+    F = _metre_harness(namespace["define_damper"], 7, t, d_m)
+    v_m = np.gradient(d_m, t)
+    if law == "2":
+        F_ref = p["C"] * np.sign(v_m) * np.abs(1000.0 * v_m) ** p["alpha"]
+    else:
+        fs, F_ref = 0.0, [0.0]
+        for k in range(1, t.size):
+            fs = float(np.clip(fs + 1000.0 * p["K"] * (d_m[k] - d_m[k - 1]), -p["mu"] * p["N"], p["mu"] * p["N"]))
+            F_ref.append(fs + p["C"] * 1000.0 * v_m[k])
+        F_ref = np.array(F_ref)
+    assert objective(F_ref, F, t) <= 0.01
+    if law == "2":  # the millimetre script in a metre model: off by 1000^alpha
+        exec(_export(str(params / "law2.yaml")).stdout, namespace)
+        F_mm = _metre_harness(namespace["define_damper"], 7, t, d_m)
+        assert objective(F_ref, F_mm, t) > 0.5
+
+
+def test_a_unit_that_does_not_exist(calibrated, tmp_path):
+    params, _ = calibrated
+    out = tmp_path / "d.py"
+    res = _export(str(params / "law2.yaml"), "-o", str(out), "--units", "kN,furlong,s")
+    assert res.returncode == 2 and "furlong" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_the_definition_is_reused_after_a_wipe_and_once_per_damper(calibrated, tmp_path):
+    """Imported as a module, the script defines nothing; define_damper works
+    again after ops.wipe(), under the caller's tags, beside the caller's
+    material 1, once per damper (tags HELPER_TAGS + 1 apart)."""
+    import importlib.util
+
+    import openseespy.opensees as ops
+
+    params, _ = calibrated
+    out = tmp_path / "my_damper.py"
+    assert _export(str(params / "law2+friction.yaml"), "-o", str(out), "--tag", "1").returncode == 0
+    spec = importlib.util.spec_from_file_location("my_damper", out)
+    damper = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(damper)
+    for _ in range(2):
+        ops.wipe()
+        ops.model("basic", "-ndm", 1, "-ndf", 1)
+        ops.uniaxialMaterial("Elastic", 1, 5.0)  # the caller's own material 1
+        first = damper.define_damper(ops, 10)
+        second = damper.define_damper(ops, 10 + damper.HELPER_TAGS + 1)
+        for tag in (first, second):
+            ops.testUniaxialMaterial(tag)
+            ops.setStrain(0.0, 50.0)
+            assert ops.getStress() > 0.0
+    ops.wipe()

@@ -14,12 +14,15 @@ from ..records.options import NO_COLUMN
 from ..records.readers import RecordWarning
 
 
-def add_record_options(p: argparse.ArgumentParser) -> None:
+def add_record_options(p: argparse.ArgumentParser, units_flag: str = "--units") -> None:
+    """The reading options; ``units_flag``: the flag of the columns' units
+    (a verb whose --units means something else names it otherwise)."""
     g = p.add_argument_group("reading records (or a YAML sidecar NAME.yaml next to each file)")
     g.add_argument("--columns", help="column mapping, e.g. t=time,d=disp,F=load (CSV header names) "
                                      "or d=0,F=2 (.mat column indices with --mat-var); v=none leaves a "
                                      "measured velocity out (v derived from d)")
-    g.add_argument("--units", help="units of the columns, e.g. t=ms,d=m,F=N (default s, mm, kN, mm/s)")
+    g.add_argument(units_flag, dest="units",
+                   help="units of the columns, e.g. t=ms,d=m,F=N (default s, mm, kN, mm/s)")
     g.add_argument("--mat-var", help=".mat variable holding the columns, e.g. x_F")
     g.add_argument("--dt", type=float, help="time step [s] when the file has no time column")
     g.add_argument("--sg-window", type=int, help="Savitzky-Golay window [samples] for velocity, the same "

@@ -32,11 +32,15 @@ def add_parser(sub):
     o.add_argument("params", metavar="PARAMS.yaml", help="calibration file")
     o.add_argument("-o", "--output", metavar="FILE", help="damper.py or damper.tcl (default: print to stdout)")
     o.add_argument("--tag", type=int, default=1, help="material tag of the damper (helpers get tag+1, ...)")
+    o.add_argument("--units", dest="units_out", metavar="FORCE,LENGTH,TIME",
+                   help="units of the OpenSees model the damper goes into, e.g. kN,m,s or N,mm,s or kip,in,s "
+                        "(or F=kN,d=m,t=s; default kN,mm,s): every value is converted, a dashpot's C with its "
+                        "exponent")
     o.add_argument("--check", metavar="RECORD", nargs="?", const=CALIBRATION_RECORD,
                    help="drive the OpenSees material with this record's displacement (without RECORD: the "
                         "calibration record, read as it was read) and compare its force with fvd_bridge's model "
                         "(eq. 18); exit 1 with a figure when it misses the documented bound")
-    add_record_options(o)
+    add_record_options(o, units_flag="--record-units")
     o.set_defaults(func=run_opensees)
     f = targets.add_parser("fmu", help="FMI 3.0 co-simulation FMU of the calibrated damper",
                            description="Build an FMI 3.0 co-simulation FMU (input d [mm], optional v, a; output F "
@@ -67,7 +71,7 @@ def run_opensees(args) -> int:
             raise InputError(f"-o {args.output}: the suffix must be .py (OpenSeesPy) or .tcl (Tcl)")
         lang = ext[1:]
     cal = Calibration.load(args.params)
-    export = opensees_export(cal.model, cal.named(), args.tag)
+    export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
     record = None
     if args.check == CALIBRATION_RECORD:
         record = read_as_calibrated(cal.record or {}, args)
@@ -78,7 +82,7 @@ def run_opensees(args) -> int:
         record = read_records([args.check], args)[0]
     if record is not None:
         _warn_beyond(cal, record)
-    script = f"# {cal.tested_text()}\n" + to_script(export, lang)  # '#' starts a comment in Python and Tcl
+    script = to_script(export, lang, cal.provenance_lines())
     if record is not None and _check(cal, export, record, args):
         return 1  # the export failed its check: no script written
     if args.output:

@@ -90,7 +90,7 @@ from ..catalog import parse_model
 from ..effects.compose import ordered
 from ..errors import InputError
 from ..model import Model
-from ..opensees_commands import NOT_IN_TCL, apply, listed  # noqa: F401 (re-exported)
+from ..opensees_commands import NOT_IN_TCL, Tag, apply, define, listed  # noqa: F401 (re-exported)
 from ..opensees_commands import to_script as commands_script
 from ..units import SYSTEM, factor, in_system, unit_system
 
@@ -153,9 +153,10 @@ class _Script:
         self.tabulated, self.global_step, self.velocity = 0.0, False, velocity
 
     def mat(self, kind: str, *args, global_step: bool = False) -> int:
-        """A material of this kind with the next tag; ``global_step``: it
-        integrates over the analysis' global time step."""
-        tag, self.next = self.next, self.next + 1
+        """A material of this kind with the next tag (a Tag, relative to the
+        damper's); ``global_step``: it integrates over the analysis' global
+        time step."""
+        tag, self.next = Tag(self.next, self.next - self.tag), self.next + 1
         self.commands.append(("uniaxialMaterial", kind, tag, *args))
         self.global_step |= global_step
         return tag
@@ -169,7 +170,8 @@ class _Script:
     def finish(self, top: int) -> list:
         """The commands, the damper material ``top`` renamed to the tag asked for
         (it is the last command: nothing refers to it)."""
-        return [c[:2] + (self.tag,) + c[3:] if c[2] == top else c for c in self.commands]
+        own = Tag(self.tag, 0)
+        return [c[:2] + (own,) + c[3:] if c[2] == top else c for c in self.commands]
 
 
 def _values(model, params: dict) -> dict:
@@ -222,11 +224,30 @@ def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
 # ------------------------------------------------------------------ output
 # listed, apply and NOT_IN_TCL come from fvd_bridge.opensees_commands (the
 # frames build their models from command lists too) and stay importable here.
-def to_script(commands, lang: str = "py") -> str:
-    """The commands (or an Export's, with its note) as an OpenSeesPy ('py')
-    or Tcl ('tcl') script; numbers are written to full precision."""
-    head = []
-    if isinstance(commands, Export):
-        head = [f"# fvd_bridge export of model {commands.model} (kN, mm, s): damper material {commands.tag}",
-                f"# mapping: {commands.note}"]
-    return commands_script(commands, lang, head)
+#: the damper's definition function in an exported script
+DEFINE = "define_damper"
+
+
+def to_script(commands, lang: str = "py", comments=()) -> str:
+    """An Export as an OpenSeesPy ('py') or Tcl ('tcl') script defining
+    ``define_damper(ops, tag)`` (``opensees_commands.define``: importable,
+    callable again after ops.wipe() and once per damper, run as it is it
+    defines material ``tag``), its header the model, the units, the mapping,
+    the ``comments`` given (record, tested range) and how to solve a model
+    with a power-law dashpot; plain command lists as top-level commands.
+    Numbers are written to full precision."""
+    if not isinstance(commands, Export):
+        return commands_script(commands, lang, comments)
+    ex = commands
+    units = f"{ex.units['F']}, {ex.units['d']}, {ex.units['t']}"
+    head = [f"# fvd_bridge export of model {ex.model}: {DEFINE}(ops, tag) defines the damper as uniaxial "
+            f"material tag (default {ex.tag})",
+            f"# units: force {ex.units['F']}, length {ex.units['d']}, time {ex.units['t']} (the OpenSees model's "
+            f"must be these: {units})",
+            f"# mapping: {ex.note}", *[f"# {line}" for line in comments]]
+    if any(c[1] == "Viscous" and len(c) > 4 and float(c[4]) < 0.5 for c in ex.commands):
+        head.append("# solving: a power-law dashpot with alpha < 0.5 has an unbounded tangent at velocity "
+                    "reversals; test the force residual (NormUnbalance) and, where Newton fails, retry the step "
+                    "with KrylovNewton, NewtonLineSearch, then halved steps (as fvd-bridge frame does)")
+    return define(ex.commands, lang, DEFINE, ex.tag, ex.helpers, head,
+                  f"Define the {ex.model} damper ({units})")
