@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
+import os
 import sys
 import warnings
 
@@ -76,5 +78,18 @@ def main(argv=None) -> int:
         return 130
 
 
+def entry() -> None:
+    """The console command: main(), then, where OpenSees was loaded, an exit
+    that skips its C++ teardown, which prints 'Process 0 Terminating' on
+    stderr after the verb's own output (every output is written by then)."""
+    rc = main()
+    if "openseespy.opensees" in sys.modules:
+        logging.shutdown()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(rc)
+    sys.exit(rc)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()

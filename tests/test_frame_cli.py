@@ -72,3 +72,40 @@ def test_frame_bad_input_gets_one_line(series, tmp_path):
     assert "Traceback" not in res.stderr and not (tmp_path / "x").exists()
     res = frame(str(tmp_path / "nothing"), "--record", str(series / "quake.txt"))
     assert res.returncode == 2 and "no such file or folder" in res.stderr
+
+
+def test_frame_tells_what_it_ran(series, tmp_path):
+    """--duration that keeps little of the record's energy is warned about
+    (with the share kept and where the strong motion is); N dampers per
+    story of one device act as one device N times stronger (the same frame
+    response; the force reported per damper, 1/N of it); the bare frame's
+    damper columns print '-'; OpenSees' messages go to OUT/opensees.log, not
+    to the console ('Process 0 Terminating' included)."""
+    law2 = series / "cal" / "params" / "dev0" / "law2.yaml"
+    rec = str(series / "quake.txt")
+    short = frame(str(law2), "--record", rec, "--duration", "0.5", "--out", str(tmp_path / "a"), "--quiet",
+                  "--no-figures")
+    assert short.returncode == 0, short.stderr[-2000:]
+    assert "warning: --duration 0.5 keeps" in short.stderr and "strong motion (5-95%) lies at" in short.stderr
+    kept = json.load(open(tmp_path / "a" / "frame_summary.json"))["settings"]["energy_kept"]
+    t = np.arange(0.0, 4.0, 0.01)
+    a = 0.3 * np.sin(2 * np.pi * t) * np.sin(np.pi * t / 4.0)
+    assert kept == pytest.approx(np.sum(a[t <= 0.5] ** 2) / np.sum(a ** 2), rel=1e-3)
+    runs = {}
+    for name, extra in (("two", ["--dampers-per-story", "2"]), ("double", ["--scale-force", "2"])):
+        res = frame(str(law2), "--record", rec, "--out", str(tmp_path / name), "--no-figures", *extra)
+        assert res.returncode == 0, res.stderr[-2000:]
+        assert "Process 0 Terminating" not in res.stderr + res.stdout and "WARNING" not in res.stderr
+        runs[name] = {r["case"]: r for r in csv.DictReader(open(tmp_path / name / "frame_table.csv"))}
+        assert (tmp_path / name / "opensees.log").is_file()
+        bare = next(line for line in res.stdout.splitlines() if line.startswith("bare frame"))
+        assert bare.split()[-3:] == ["-", "-", "-"]
+    case = next(k for k in runs["two"] if k != "bare frame")
+    assert float(runs["two"][case]["drift [%]"]) == pytest.approx(float(runs["double"][case]["drift [%]"]), rel=1e-9)
+    assert float(runs["two"][case]["force [kN]"]) == pytest.approx(0.5 * float(runs["double"][case]["force [kN]"]),
+                                                                  rel=1e-9)
+    one = frame(str(law2), "--record", rec, "--out", str(tmp_path / "one"), "--no-figures", "--quiet")
+    single = {r["case"]: r for r in csv.DictReader(open(tmp_path / "one" / "frame_table.csv"))}
+    assert float(single[case]["drift [%]"]) > float(runs["two"][case]["drift [%]"])
+    bad = frame(str(law2), "--record", rec, "--dampers-per-story", "0", "--out", str(tmp_path / "z"))
+    assert bad.returncode == 2 and "--dampers-per-story 0" in bad.stderr and not (tmp_path / "z").exists()

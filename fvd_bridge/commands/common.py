@@ -90,10 +90,11 @@ def read_as_calibrated(block: dict, args):
     return window(record, ",".join(map(str, block["window"]))) if block.get("window") else record
 
 
-def quiet_opensees() -> None:
+def quiet_opensees(log: str | None = None) -> None:
     """Send OpenSees' console output (banners, per-step convergence warnings)
-    to nowhere for the rest of this process: the analyses report their own
-    solver trouble (FrameResult.solver, the export check's OF)."""
+    to the file ``log`` (default nowhere) for the rest of this process: the
+    analyses report their own solver trouble (FrameResult.solver, the export
+    check's OF)."""
     import openseespy.opensees as ops
 
-    ops.logFile(os.devnull, "-noEcho")
+    ops.logFile(log or os.devnull, "-noEcho")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import glob
 import os
 import sys
+import tempfile
 
 from ..calibration import Calibration
 from ..catalog import catalog
@@ -13,6 +14,8 @@ from ..records.motions import read_motion
 from .common import quiet_opensees
 
 BUILDINGS = ("3-story", "9-story")
+#: --duration keeping less than this share of the record's energy (Arias intensity) is warned about
+KEEP_WARN = 0.9
 
 
 def add_parser(sub):
@@ -29,7 +32,14 @@ def add_parser(sub):
     p.add_argument("--component", help="V2A component (index or part of its name, e.g. N28W)")
     p.add_argument("--units", help="acceleration unit of a text record (default g; e.g. m/s^2, gal)")
     p.add_argument("--scale-pga", type=float, metavar="G", help="scale the record to this peak ground acceleration [g]")
-    p.add_argument("--duration", type=float, metavar="S", help="use only the first S seconds of the record")
+    p.add_argument("--duration", type=float, metavar="S",
+                   help="use only the first S seconds of the record (warned when it keeps less than "
+                        f"{KEEP_WARN:.0%} of the record's energy)")
+    p.add_argument("--dampers-per-story", type=int, default=1, metavar="N",
+                   help="dampers side by side in each story (default 1); forces are reported per damper")
+    p.add_argument("--scale-force", type=float, default=1.0, metavar="S",
+                   help="each damper is the calibrated device with its force times S (a larger device of the "
+                        "series; default 1); its force limit scales with it")
     p.add_argument("--building", default="3-story", choices=BUILDINGS, help="frame (default 3-story)")
     p.add_argument("--laws", help="only these models, e.g. 2,9 or 2+friction (default all given)")
     p.add_argument("--stroke-limit", type=float, metavar="MM",
@@ -64,10 +74,12 @@ def load_inputs(args):
     """Calibrations, building and ground motion, all checked before any analysis."""
     from ..frames import buildings
 
-    for name in ("scale_pga", "duration", "stroke_limit", "force_limit"):
+    for name in ("scale_pga", "duration", "stroke_limit", "force_limit", "scale_force"):
         value = getattr(args, name)
         if value is not None and not value > 0:
             raise InputError(f"--{name.replace('_', '-')} {value}: must be > 0")
+    if args.dampers_per_story < 1:
+        raise InputError(f"--dampers-per-story {args.dampers_per_story}: must be at least 1")
     cals = [Calibration.load(f) for f in calibration_files(args.params)]
     if args.laws:
         wanted = {catalog().model(s.strip()).spec for s in args.laws.split(",")}
@@ -76,7 +88,15 @@ def load_inputs(args):
             raise InputError(f"--laws {args.laws}: none of the calibration files holds these models")
     motion = read_motion(args.record, component=args.component, units=args.units)
     if args.duration:
+        whole = motion
         motion = motion.window(args.duration)
+        kept = motion.arias() / whole.arias() if whole.arias() > 0 else 1.0
+        motion.source["energy_kept"] = kept
+        if kept < KEEP_WARN:
+            t5, t95 = whole.strong_motion()
+            print(f"warning: --duration {args.duration:g} keeps {kept:.1%} of the record's energy (Arias "
+                  f"intensity); its strong motion (5-95%) lies at {t5:.1f}-{t95:.1f} s of {whole.duration:.1f} s",
+                  file=sys.stderr)
     if args.scale_pga:
         motion = motion.scaled_to_pga(args.scale_pga)
     building = buildings.three_story() if args.building == "3-story" else buildings.nine_story()
@@ -88,7 +108,9 @@ def run(args) -> int:
     from ..frames.outputs import format_frame_table, write_frame_outputs
 
     cals, building, motion = load_inputs(args)
-    quiet_opensees()
+    log = tempfile.NamedTemporaryFile(prefix="fvd_bridge_opensees_", suffix=".log", delete=False)
+    log.close()
+    quiet_opensees(log.name)
 
     def progress(msg):
         if not args.quiet:
@@ -96,8 +118,18 @@ def run(args) -> int:
 
     progress(f"frame: {building.name}, {motion.name} ({motion.duration:.1f} s, PGA {motion.pga_g:.3g} g); "
              f"{len(cals)} damper model(s) + the bare frame")
-    cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress)
-    summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures)
+    dampers = f"{args.dampers_per_story} damper(s) per story" + (
+        f", each the device x{args.scale_force:g} in force" if args.scale_force != 1.0 else "")
+    progress(f"dampers: {dampers}; forces per damper")
+    try:
+        cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
+                          per_story=args.dampers_per_story, scale=args.scale_force)
+        settings = {"dampers_per_story": args.dampers_per_story, "scale_force": args.scale_force,
+                    "energy_kept": motion.source.get("energy_kept", 1.0)}
+        summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures,
+                                      settings=settings, log=log.name)
+    finally:
+        os.unlink(log.name)
     print(format_frame_table(cases, summary["series"], summary["verdict"]))
     print(f"\nwrote {args.out}/ (frame_table.csv, frame_series.csv, frame_summary.json, histories/"
           f"{', figures/' if not args.no_figures else ''})")

@@ -53,6 +53,7 @@ class Case:
     limits: dict = field(default_factory=dict)  # {'stroke': mm, 'force': kN}
     exceeded: list = field(default_factory=list)
     n_params: int = 0
+    per_story: int = 1  # dampers side by side in each story (the link carries all of them)
 
     def values(self) -> dict:
         """The design quantities (QUANTITIES) of this case; NaN where they do not apply."""
@@ -64,16 +65,29 @@ class Case:
         return {"drift": 100.0 * r.max_drift_ratio,
                 "residual": 100.0 * float(np.nanmax(np.abs(r.residual_drift_ratio))),
                 "pfa": float(np.max(r.peak_floor_acceleration_g)),
-                "force": float(np.max(r.peak_damper_force)) if has else nan,
+                "force": float(np.max(r.peak_damper_force)) / self.per_story if has else nan,
                 "stroke": float(np.max(r.peak_damper_stroke)) if has else nan,
                 "energy": 1e-3 * r.total_damper_energy if has else nan}
 
 
-def _limits(cal, stroke_limit, force_limit) -> dict:
-    """Given limits, else the calibration's tested range (its tests' peak stroke and force)."""
+def _limits(cal, stroke_limit, force_limit, scale: float = 1.0) -> dict:
+    """Given limits, else the calibration's tested range (its tests' peak
+    stroke and force, the force times the device's ``scale``)."""
     tested = cal.tested
     return {"stroke": stroke_limit if stroke_limit is not None else tested.get("d"),
-            "force": force_limit if force_limit is not None else tested.get("F")}
+            "force": force_limit if force_limit is not None else
+            (tested.get("F") * scale if tested.get("F") else None)}
+
+
+def scaled(commands: list, tag: int, factor: float) -> tuple[list, int]:
+    """The damper's commands and the tag of material ``tag`` times ``factor``
+    (``Multiplier``: stress, tangent and damping tangent scaled, the strain
+    rate passed on; MultiplierMaterial.cpp): N dampers side by side, or a
+    device scaled in force.  Factor 1: the commands as they are."""
+    if factor == 1.0:
+        return commands, tag
+    top = max(c[2] for c in commands if c[0] == "uniaxialMaterial") + 1
+    return list(commands) + [("uniaxialMaterial", "Multiplier", top, tag, float(factor))], top
 
 
 def damper_motion(result) -> dict:
@@ -107,16 +121,20 @@ def _exceeded(case: Case, cal=None) -> list:
 
 
 def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=None, dt_analysis=None,
-              progress=None) -> list[Case]:
+              progress=None, per_story: int = 1, scale: float = 1.0) -> list[Case]:
     """The bare frame, then one analysis per calibration (fvd_bridge.calibration.Calibration).
 
-    A model OpenSees cannot express is kept as a case without result, its note
-    saying why (the FMU export is the way for it)."""
+    ``per_story`` dampers side by side in each story, each the calibrated
+    device with its force times ``scale`` (a larger device of the same
+    series); forces are reported per damper.  A model OpenSees cannot
+    express is kept as a case without result, its note saying why (the FMU
+    export is the way for it)."""
     runs = [(Case("bare frame", None, None, None), None, None)]
     for cal in calibrations:
         device = cal.device or (cal.record or {}).get("name") or "device"
         case = Case(f"law {cal.spec} | {device}", cal.spec, device, float(cal.of),
-                    limits=_limits(cal, stroke_limit, force_limit), n_params=len(cal.model.names))
+                    limits=_limits(cal, stroke_limit, force_limit, scale), n_params=len(cal.model.names),
+                    per_story=per_story)
         commands = None
         try:
             export = opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM)
@@ -129,11 +147,15 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
             if progress:
                 progress(f"{case.label}: skipped ({case.note})")
             continue
-        case.result = run_frame(building, motion, commands, DAMPER_TAGS_FROM, dt_analysis=dt_analysis)
+        tag = DAMPER_TAGS_FROM
+        if commands is not None:
+            commands, tag = scaled(commands, tag, per_story * scale)
+        case.result = run_frame(building, motion, commands, tag, dt_analysis=dt_analysis)
         case.exceeded = _exceeded(case, cal)
         if progress:
             v = case.values()
-            progress(f"{case.label}: peak drift {v['drift']:.3f}%, damper force {v['force']:.4g} kN "
+            force = f", damper force {v['force']:.4g} kN" if np.isfinite(v["force"]) else ""
+            progress(f"{case.label}: peak drift {v['drift']:.3f}%{force} "
                      f"({', '.join(case.result.solver.algorithms_used)})")
     return [case for case, _, _ in runs]
 

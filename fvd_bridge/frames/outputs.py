@@ -6,11 +6,13 @@ DIR/frame_summary.json     building, motion, every case's summary, the spread an
 DIR/histories/<device>_law<SPEC>_story<k>.csv   each damper's deformation history (t [s], d [mm]):
                            `rig --protocol history:FILE` and `compare` accept it, a lab can play it
 DIR/figures/               drift profiles (series band), damper hysteresis, time histories
+DIR/opensees.log           OpenSees' own messages (kept out of the console)
 """
 
 from __future__ import annotations
 
 import os
+import shutil
 
 import numpy as np
 
@@ -24,9 +26,13 @@ def _num(x):
     return None if not np.isfinite(x) else x
 
 
-def write_frame_outputs(out: str, building, motion, cases, figures: bool = True) -> dict:
+def write_frame_outputs(out: str, building, motion, cases, figures: bool = True, settings: dict | None = None,
+                        log: str | None = None) -> dict:
     """Write the tables, histories and figures; returns the summary dict (its
-    'series' the spread over the devices, its 'verdict' the verdict's text)."""
+    'series' the spread over the devices, its 'verdict' the verdict's text).
+    ``settings``: the run's (dampers per story, force scale, the record's
+    share kept) into the summary; ``log``: OpenSees' own messages, kept as
+    opensees.log."""
     spread = series_spread(cases)
     text = verdict(spread)
     with staged_dir(out) as stage:
@@ -60,8 +66,10 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True)
                                                      "exceeded": c.exceeded, "limits": c.limits,
                                                      "response": c.result.summary() if c.result else None}
                                                     for c in cases],
-                   "series": spread, "verdict": text}
+                   "series": spread, "verdict": text, "settings": settings or {}}
         write_json(os.path.join(stage, "frame_summary.json"), summary)
+        if log and os.path.isfile(log):
+            shutil.copyfile(log, os.path.join(stage, "opensees.log"))
         if figures:
             # lazily: matplotlib takes about a second to import, and --no-figures needs none
             from ..plots import frames as figs
@@ -77,6 +85,11 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True)
     return summary
 
 
+def _cell(x: float) -> str:
+    """A table value; '-' where the quantity does not exist (the bare frame's damper force)."""
+    return f"{x:.4g}" if np.isfinite(x) else "-"
+
+
 def format_frame_table(cases, spread: dict, text: str) -> str:
     """The printed comparison: one line per case, the series spread, the verdict."""
     w = max(len(c.label) for c in cases) + 2
@@ -85,7 +98,7 @@ def format_frame_table(cases, spread: dict, text: str) -> str:
     for c in cases:
         v = c.values()
         notes = "; ".join(c.exceeded) if c.result is not None else f"skipped: {c.note}"
-        lines.append(f"{c.label:<{w}}" + "".join(f"{v[k]:>15.4g}" for k, _, _ in QUANTITIES) + f"  {notes}")
+        lines.append(f"{c.label:<{w}}" + "".join(f"{_cell(v[k]):>15}" for k, _, _ in QUANTITIES) + f"  {notes}")
     if any(len(s["devices"]) > 1 for s in spread.values()):
         lines += ["", "production series: min / mean / max (CoV) over devices"]
         for spec, s in spread.items():

@@ -98,6 +98,20 @@ class GroundMotion:
         src = dict(self.source, scale_factor=self.source.get("scale_factor", 1.0) * k, scaled_to_pga_g=target)
         return GroundMotion(self.name, self.dt, self.accel * k, src)
 
+    def arias(self) -> float:
+        """The record's energy as its Arias intensity up to the factor pi / (2 g):
+        integral a^2 dt [mm^2/s^3]."""
+        return float(np.sum(self.accel ** 2) * self.dt)
+
+    def strong_motion(self, low: float = 0.05, high: float = 0.95) -> tuple[float, float]:
+        """Times [s] at which the record has built up ``low`` and ``high`` of
+        its energy (the 5-95% significant duration's ends)."""
+        cum = np.cumsum(self.accel ** 2)
+        if cum[-1] <= 0.0:
+            return 0.0, self.duration
+        return (float(np.searchsorted(cum, low * cum[-1]) * self.dt),
+                float(np.searchsorted(cum, high * cum[-1]) * self.dt))
+
     def window(self, t_end: float) -> "GroundMotion":
         """The first ``t_end`` [s]: samples at t <= t_end (all of them if the
         record is shorter); the kept span goes into source['window_s']."""
