@@ -11,6 +11,7 @@ import argparse
 import importlib
 import logging
 import os
+import signal
 import sys
 import warnings
 
@@ -65,6 +66,7 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     warnings.showwarning = _show_warning
+    previous = _on_sigterm()
     try:
         return int(args.func(args) or 0)
     except InputError as exc:
@@ -73,9 +75,34 @@ def main(argv=None) -> int:
     except BrokenPipeError:  # output piped into e.g. `head`
         sys.stderr.close()
         return 0
+    except Terminated:
+        print("fvd-bridge: terminated (SIGTERM): nothing written, workers stopped", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print("fvd-bridge: interrupted", file=sys.stderr)
         return 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (a batch system's time limit, a kill): raised in the main
+    thread so that every worker pool stops and every staged output is
+    removed on the way out, as on Ctrl-C."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def _on_sigterm():
+    """Turn SIGTERM into ``Terminated`` while a verb runs; the previous
+    handler (None off the main thread, where signals cannot be set)."""
+    try:
+        return signal.signal(signal.SIGTERM, _raise_terminated)
+    except ValueError:
+        return None
 
 
 def entry() -> None:

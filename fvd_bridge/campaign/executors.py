@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 import multiprocessing
 import os
+import signal
 
 import numpy as np
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -27,7 +28,18 @@ class Serial:
             yield item, fn(*item)
 
 
+def _stop_task(signum, frame):
+    """SIGTERM in a worker (``stop``): SystemExit ends a running task (the pool
+    sends it back as the task's outcome) or, between tasks, the worker,
+    quietly and with its exit handlers run."""
+    raise SystemExit(0)
+
+
 def _init_worker():
+    # first: SIGTERM ends the running task (or this start-up); the worker then takes
+    # the pool's end-of-work sentinel and exits as usual, releasing what it holds,
+    # numba's process lock among them (stop)
+    signal.signal(signal.SIGTERM, _stop_task)
     import numba  # lazily: only a worker sets numba's threads; importing executors stays numba-free
 
     numba.set_num_threads(1)  # the processes already use every core
@@ -47,11 +59,38 @@ class Processes:
             yield from Serial().run(fn, items)
             return
         method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-        with ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker,
-                                 mp_context=multiprocessing.get_context(method)) as pool:
+        pool = ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker,
+                                   mp_context=multiprocessing.get_context(method))
+        try:
             futures = {pool.submit(fn, *item): item for item in items}
             for fut in as_completed(futures):
                 yield futures[fut], fut.result()
+        except BaseException:  # SIGTERM, Ctrl-C, a failed task, the caller stopping: no worker outlives the run
+            stop(pool)
+            raise
+        pool.shutdown(wait=True)
+
+
+#: seconds a terminated worker gets to exit before it is killed (a signal waits
+#: for the compiled kernel it interrupts to return; Slurm waits 30 s before SIGKILL)
+STOP_GRACE = 20.0
+
+
+def stop(pool: ProcessPoolExecutor) -> None:
+    """End a process pool now: queued tasks cancelled, the end-of-work
+    sentinels sent, each worker's running task ended (SIGTERM: ``_stop_task``,
+    after which the worker exits as usual; SIGKILL after STOP_GRACE s), its
+    queues released."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in workers:
+        proc.terminate()
+    for proc in workers:
+        proc.join(STOP_GRACE)
+        if proc.is_alive():
+            proc.kill()
+            proc.join()
+    pool.shutdown(wait=True)  # its manager thread sees the workers gone and releases the queues
 
 
 def _one_thread(fn, *args):
