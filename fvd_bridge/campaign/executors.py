@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import multiprocessing
+import multiprocessing.util
 import os
 import signal
 
@@ -28,18 +29,18 @@ class Serial:
             yield item, fn(*item)
 
 
-def _stop_task(signum, frame):
-    """SIGTERM in a worker (``stop``): SystemExit ends a running task (the pool
-    sends it back as the task's outcome) or, between tasks, the worker,
-    quietly and with its exit handlers run."""
-    raise SystemExit(0)
+def _stop_worker(signum, frame):
+    """SIGTERM in a worker (``stop``): exit now, as a pool worker's process
+    ends (multiprocessing's exit handlers, which release the semaphores it
+    made, numba's process lock among them, then os._exit), wherever it is
+    (a task, numba's compiler callback): no traceback, nothing leaked."""
+    multiprocessing.util._exit_function()
+    os._exit(0)
 
 
 def _init_worker():
-    # first: SIGTERM ends the running task (or this start-up); the worker then takes
-    # the pool's end-of-work sentinel and exits as usual, releasing what it holds,
-    # numba's process lock among them (stop)
-    signal.signal(signal.SIGTERM, _stop_task)
+    # first: SIGTERM ends the worker, also during this start-up (stop)
+    signal.signal(signal.SIGTERM, _stop_worker)
     import numba  # lazily: only a worker sets numba's threads; importing executors stays numba-free
 
     numba.set_num_threads(1)  # the processes already use every core
@@ -78,9 +79,8 @@ STOP_GRACE = 20.0
 
 def stop(pool: ProcessPoolExecutor) -> None:
     """End a process pool now: queued tasks cancelled, the end-of-work
-    sentinels sent, each worker's running task ended (SIGTERM: ``_stop_task``,
-    after which the worker exits as usual; SIGKILL after STOP_GRACE s), its
-    queues released."""
+    sentinels sent, each worker ended (SIGTERM: ``_stop_worker``; SIGKILL
+    after STOP_GRACE s), the pool's queues released."""
     workers = list((getattr(pool, "_processes", None) or {}).values())
     pool.shutdown(wait=False, cancel_futures=True)
     for proc in workers:
