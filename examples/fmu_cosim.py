@@ -114,7 +114,8 @@ def cosimulate(fmu_path: str, scheme: str, t: np.ndarray, ag: np.ndarray, h: flo
         fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(fmu_path, tmp),
                         modelIdentifier=md.coSimulation.modelIdentifier, instanceName="damper")
         fmu.instantiate()
-        fmu.setBoolean([vr["use_velocity_input"]], [True])      # structural parameter: before initialization
+        # structural parameters (before initialization): d(t + h), v(t + h) set before each step
+        fmu.setBoolean([vr["inputs_at_step_end"], vr["use_velocity_input"]], [True, True])
         fmu.enterInitializationMode(startTime=t[0])
         fmu.setFloat64(inputs, [0.0, 0.0])                       # at rest
         fmu.exitInitializationMode()

@@ -17,16 +17,18 @@
  * The physics files are compiled into this translation unit (their
  * functions are static, as the FMU's only exports are fmi3Functions.c's).
  *
- * Co-simulation convention: before fmi3DoStep(t, h) the master sets the
- * pin's displacement d at the END of the step, d(t + h) (and v, a when
- * use_velocity_input, use_acceleration_input); the step then integrates
- * over [t, t + h] in n = ceil(h / h_max) equal sub-steps, as the Python
- * model does over one sample step with `substeps = n`, and F, z, E are the
- * values at t + h.  (Start-of-step values delay the force by one step: OF
- * 0.012-0.022 against the Python model on the golden records, 4e-5 to 3e-4
- * with end-of-step values.)  Without those inputs v and a are derived from
- * the samples of d (backward_derivative: second-order, from rest at
- * initialization).
+ * Co-simulation convention (FMI's, the default): before fmi3DoStep(t, h)
+ * the master sets the pin's displacement d at the communication point t
+ * (and v, a: used when set, or with use_velocity_input,
+ * use_acceleration_input); the FMU redoes its last step with them (its state
+ * stays exact), then steps to t + h on d, v, a extrapolated there from the
+ * last three points (second order), and F, z, E are the values at t + h.
+ * With inputs_at_step_end (structure-first masters such as fvd_bridge's
+ * co-simulation) the master sets d(t + h) instead and the step is exact.
+ * Each step integrates over [t, t + h] in n = ceil(h / h_max) equal
+ * sub-steps, as the Python model does over one sample step with
+ * `substeps = n`.  Without v, a they are derived from the samples of d
+ * (backward_derivative: second-order, from rest at initialization).
  *
  * Parameters: the calibrated model's own (its law's and effects') are
  * tunable, settable between steps and checked when set; every other
@@ -151,7 +153,8 @@ static Status checkParameters(ModelInstance *comp) {
 
 static void setOutputs(ModelInstance *comp, double F) {
     M(value)[vr_F] = F;
-    M(value)[vr_z] = internal_state(&M(damper), M(law), M(connection));
+    M(value)[vr_z] = internal_state(&M(now).damper, M(law), M(connection));
+    M(value)[vr_E] = M(now).E;
 }
 
 static Status finiteOutputs(ModelInstance *comp) {
@@ -164,8 +167,13 @@ static Status finiteOutputs(ModelInstance *comp) {
 
 /* model_history_sample with the parameters as last checked (m->on, m->p_eff: effectParameters) */
 static double sample(ModelData *m, bool first, double d, double v, double a, double dt, int substeps) {
-    return model_history_sample(&m->damper, m->law, lawParameters(m), m->on, m->p_eff, first, d, v, a, dt, substeps);
+    return model_history_sample(&m->now.damper, m->law, lawParameters(m), m->on, m->p_eff, first, d, v, a, dt,
+                                substeps);
 }
+
+/* v, a as given: the flags, or the master has set them (a connected input is used) */
+static bool velocity_given(const ModelData *m) { return m->flag[vr_use_velocity_input] || m->v_set; }
+static bool acceleration_given(const ModelData *m) { return m->flag[vr_use_acceleration_input] || m->a_set; }
 
 /* sample 0, at rest: the outputs at the start time from the inputs set so far */
 Status initializeModel(ModelInstance *comp) {
@@ -174,36 +182,79 @@ Status initializeModel(ModelInstance *comp) {
     effectParameters(m, m->on, m->p_eff);
     m->connection = connection_on(m->on, m->p_eff);
     const double d = m->value[vr_d];
-    const double v = m->flag[vr_use_velocity_input] ? m->value[vr_v] : 0.0;
-    const double a = m->flag[vr_use_acceleration_input] ? m->value[vr_a] : 0.0;
-    model_rest(&m->damper, m->law);
+    const double v = velocity_given(m) ? m->value[vr_v] : 0.0;
+    const double a = acceleration_given(m) ? m->value[vr_a] : 0.0;
+    Track *k = &m->now;
+    model_rest(&k->damper, m->law);
     const double F = sample(m, true, d, v, a, m->value[vr_h_max], 1);
-    m->d_last[0] = m->d_last[1] = d;
-    m->v_last[0] = m->v_last[1] = v;
-    m->h_last = 0.0;
-    m->samples = 1;
-    m->Fv_last = F * v;
-    m->value[vr_E] = 0.0;
+    k->d_last[0] = k->d_last[1] = d;
+    k->v_last[0] = k->v_last[1] = v;
+    k->h_last = 0.0;
+    k->samples = 1;
+    k->Fv_last = F * v;
+    k->E = 0.0;
+    m->predicted = false;
+    m->in_hist[0][0] = d; m->in_hist[0][1] = v; m->in_hist[0][2] = a;
+    m->points = 1;
     setOutputs(comp, F);
     return finiteOutputs(comp);
 }
 
-/* one communication step h [s] to the inputs set for its end */
+/* one sample step h [s] of the damper to the inputs d, v, a at its end (v, a
+ * derived from the samples of d unless given); returns F there */
+static double step_to(ModelData *m, double h, double d, double v_in, double a_in) {
+    Track *k = &m->now;
+    const int n = substeps_of(h, m->value[vr_h_max]);
+    const double v = velocity_given(m) ? v_in : backward_derivative(d, k->d_last, h, k->h_last, k->samples);
+    const double a = acceleration_given(m) ? a_in : backward_derivative(v, k->v_last, h, k->h_last, k->samples);
+    const double F = sample(m, false, d, v, a, h, n);
+    k->E += 0.5 * h * (k->Fv_last + F * v);  /* work done on the damper, trapezoidal rule */
+    k->Fv_last = F * v;
+    k->d_last[1] = k->d_last[0]; k->d_last[0] = d;
+    k->v_last[1] = k->v_last[0]; k->v_last[0] = v;
+    k->h_last = h;
+    k->samples++;
+    return F;
+}
+
+/* the input i (0 d, 1 v, 2 a) extrapolated h [s] past the newest communication
+ * point: the quadratic through the last three points (Lagrange, uneven steps;
+ * 3 x0 - 3 x1 + x2 for even ones), linear or constant while fewer are known */
+static double extrapolated(const ModelData *m, int i, double h) {
+    const double x0 = m->in_hist[0][i], x1 = m->in_hist[1][i], x2 = m->in_hist[2][i];
+    const double h1 = m->h_hist[0], h2 = m->h_hist[1];
+    if (m->points < 2 || !(h1 > 0.0)) return x0;
+    if (m->points < 3 || !(h2 > 0.0)) return x0 + (x0 - x1) * h / h1;
+    const double h12 = h1 + h2;
+    return (h + h1) * (h + h12) / (h1 * h12) * x0 - h * (h + h12) / (h1 * h2) * x1 + h * (h + h1) / (h12 * h2) * x2;
+}
+
+/* one communication step h [s].  Inputs at the step's end (inputs_at_step_end):
+ * the step to them.  Inputs at its start (FMI's convention, the default): the
+ * step predicted from the last one redone to the inputs now known at t (the
+ * state stays exact), then the step to t + h on the inputs extrapolated there
+ * (``extrapolated``), its outputs the values at t + h */
 Status doModelStep(ModelInstance *comp, double h) {
     ModelData *m = &comp->modelData;
-    const int n = substeps_of(h, m->value[vr_h_max]);
-    const double d = m->value[vr_d];
-    const double v = m->flag[vr_use_velocity_input] ? m->value[vr_v]
-                                                    : backward_derivative(d, m->d_last, h, m->h_last, m->samples);
-    const double a = m->flag[vr_use_acceleration_input] ? m->value[vr_a]
-                                                        : backward_derivative(v, m->v_last, h, m->h_last, m->samples);
-    const double F = sample(m, false, d, v, a, h, n);
-    m->value[vr_E] += 0.5 * h * (m->Fv_last + F * v);  /* work done on the damper, trapezoidal rule */
-    m->Fv_last = F * v;
-    m->d_last[1] = m->d_last[0]; m->d_last[0] = d;
-    m->v_last[1] = m->v_last[0]; m->v_last[0] = v;
-    m->h_last = h;
-    m->samples++;
+    const double d = m->value[vr_d], v = m->value[vr_v], a = m->value[vr_a];
+    if (m->flag[vr_inputs_at_step_end]) {
+        setOutputs(comp, step_to(m, h, d, v, a));
+        return finiteOutputs(comp);
+    }
+    if (m->predicted) {  /* redo [t - h', t] with the inputs at t */
+        m->now = m->at_t;
+        step_to(m, m->h_predicted, d, v, a);
+        memmove(m->in_hist[1], m->in_hist[0], 2 * sizeof(m->in_hist[0]));
+        m->in_hist[0][0] = d; m->in_hist[0][1] = v; m->in_hist[0][2] = a;
+        m->h_hist[1] = m->h_hist[0]; m->h_hist[0] = m->h_predicted;
+        if (m->points < 3) m->points++;
+    } else {  /* the first step: the inputs at t are those of initialization, or set since */
+        m->in_hist[0][0] = d; m->in_hist[0][1] = v; m->in_hist[0][2] = a;
+    }
+    m->at_t = m->now;
+    const double F = step_to(m, h, extrapolated(m, 0, h), extrapolated(m, 1, h), extrapolated(m, 2, h));
+    m->predicted = true;
+    m->h_predicted = h;
     setOutputs(comp, F);
     return finiteOutputs(comp);
 }
@@ -300,6 +351,8 @@ Status setFloat64(ModelInstance *comp, ValueReference vr, double value) {
     }
     const double old = M(value)[vr];
     M(value)[vr] = value;
+    if (vr == vr_v) M(v_set) = true;  /* a connected input is used as given */
+    if (vr == vr_a) M(a_set) = true;
     if (comp->state == StepMode && vr >= VR_FIRST_PARAMETER) return retune(comp, vr, old);
     return OK;
 }

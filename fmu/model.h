@@ -43,20 +43,33 @@
 #define UNUSED(x) (void)(x)
 
 /* the damper FMU's data (model.c): variables by value reference (config.h, generated) and state */
+/* the damper at one sample: its state and the history its next step reads */
+typedef struct {
+    Damper damper;               /* the composition's state (damper.h) */
+    double d_last[2], v_last[2]; /* the pin's d [mm], v [mm/s] at the last two samples */
+    double h_last;               /* the last communication step [s] */
+    double Fv_last;              /* F v at the last sample [kN mm/s] (energy) */
+    double E;                    /* work done on the damper so far [kN mm] */
+    int32_t samples;             /* samples taken since rest */
+} Track;
+
 typedef struct {
     /* variables */
     double value[N_VR];          /* every Float64 variable, by value reference */
     bool flag[N_VR];             /* every Boolean variable, by value reference */
     int32_t law;                 /* the law's number (config.h: LAW_IN_FMU) */
+    bool v_set, a_set;           /* the master has set v, a (they are then used as given) */
     /* the damper between communication points */
-    Damper damper;               /* the composition's state (damper.h) */
+    Track now;                   /* at the last sample computed */
+    Track at_t;                  /* at the communication point t (inputs at the step's start) */
+    bool predicted;              /* now is at t + h from predicted inputs: redone when the inputs at t + h come */
+    double h_predicted;          /* that step [s] */
+    double in_hist[3][3];        /* the inputs d, v, a at the last three communication points (newest first) */
+    double h_hist[2];            /* the steps between them [s] */
+    int32_t points;              /* communication points seen */
     bool on[N_EFFECTS];          /* the effects' switches (EFFECT_NAMES order), set at initialization */
     double p_eff[N_EFFECT_PAR];  /* the effects' parameters (PARAMETERS order), as last checked */
     bool connection;             /* the law is behind a connection (fixed at initialization) */
-    double d_last[2], v_last[2]; /* the pin's d [mm], v [mm/s] at the last two samples */
-    double h_last;               /* the last communication step [s] */
-    double Fv_last;              /* F v at the last sample [kN mm/s] (energy) */
-    int32_t samples;             /* samples taken since rest */
 } ModelData;
 
 typedef enum {

@@ -20,7 +20,7 @@ pytest.importorskip("fmpy")
 
 from fvd_bridge.calibration import Calibration  # noqa: E402
 from fvd_bridge.errors import InputError  # noqa: E402
-from fvd_bridge.export.fmu import build_fmu, end_of_step_input, simulate  # noqa: E402
+from fvd_bridge.export.fmu import build_fmu, sampled_input, simulate  # noqa: E402
 from fvd_bridge.fit.objective import objective  # noqa: E402
 from fvd_bridge.frames.buildings import three_story  # noqa: E402
 from fvd_bridge.records.motions import G_MM_S2, GroundMotion  # noqa: E402
@@ -222,7 +222,7 @@ def test_fmu_manipulation_toolbox_container_runs_the_fmu(fmus, tmp_path):
     assert res.returncode == 0 and (tmp_path / "box.fmu").is_file(), res.stdout + res.stderr
     boxed = simulate_fmu(str(tmp_path / "box.fmu"), start_time=record.t[0], stop_time=record.t[-1],
                          step_size=record.dt, output_interval=record.dt,
-                         input=end_of_step_input(record, ("d",)), output=["F"])
+                         input=sampled_input(record, ("d",)), output=["F"])
     direct = simulate(fmus(2), record)["F"]
     assert boxed.size == record.t.size
     assert np.max(np.abs(boxed["F"] - direct)) <= 1e-9 * np.max(np.abs(direct))

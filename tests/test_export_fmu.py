@@ -28,7 +28,7 @@ from fvd_bridge.effects import EFFECTS, Effect, Parameter  # noqa: E402
 from fvd_bridge.errors import InputError  # noqa: E402
 from fvd_bridge.export import fmu as fmu_export  # noqa: E402
 from fvd_bridge.export import fmu_interface  # noqa: E402
-from fvd_bridge.export.fmu import (FMU_SOURCES, OF_BOUND, build_fmu, end_of_step_input, simulate,  # noqa: E402
+from fvd_bridge.export.fmu import (FMU_SOURCES, build_fmu, end_of_step_input, simulate,  # noqa: E402
                                    validate)
 from fvd_bridge.fit.objective import objective  # noqa: E402
 from fvd_bridge.golden import GOLDEN_DIR, MODEL_SPECS, golden_record, read_golden, reference_params  # noqa: E402
@@ -40,8 +40,10 @@ SPECS = tuple(str(n) for n, law in LAWS.items() if getattr(law, "fmu", True)) + 
 ALL_EFFECTS = MODEL_SPECS[-1]  # law 2 with every effect: every state variable of the FMU
 #: the C mirrors the scalar Python: rounding, and law 7's Newton tolerance (1e-10 in ln|z|)
 MIRROR_OF = 1e-11
-#: d as the only input, v and a derived inside: measured 3.9e-5 to 2.8e-4 on the goldens
-DERIVED_OF = 4e-4
+#: d as the only input at the communication points (FMI's convention), v and a derived and
+#: extrapolated inside: measured 1.7e-4 to 2.4e-3 on the goldens, the largest with inertia, whose
+#: acceleration is d's second derivative (3.9e-5 to 2.8e-4 with d at each step's end)
+DERIVED_OF = 3e-3
 
 toolchain = pytest.mark.skipif(shutil.which("cmake") is None or shutil.which("cc") is None,
                                reason="building an FMU needs cmake and a C compiler")
@@ -75,15 +77,14 @@ def built(tmp_path_factory):
 @toolchain
 @pytest.mark.parametrize("spec", SPECS)
 def test_fmu_reproduces_python_model(spec, built):
-    """FMPy finds no problem (validate); driven by d alone the OF is within
-    OF_BOUND (the derived velocity's error); driven by d, v, a as the Python
-    model is, the C mirror reproduces it and the golden file, and E is the
-    work integral of F v."""
+    """FMPy finds no problem (validate); driven by d alone at the
+    communication points the OF is within DERIVED_OF (the derived velocity's
+    and the extrapolation's error); driven by d, v, a at each step's end as
+    the Python model is, the C mirror reproduces it and the golden file, and
+    E is the work integral of F v."""
     cal, path, record, F_golden = built(spec)
-    of_d = validate(path, cal, record)
-    assert of_d <= OF_BOUND
-    assert of_d <= DERIVED_OF
-    out = simulate(path, record, inputs="dva")
+    assert validate(path, cal, record) <= DERIVED_OF
+    out = simulate(path, record, inputs="dva", at_step_end=True)
     F = out["F"]
     assert objective(cal.force(record), F, record.t) <= MIRROR_OF
     assert np.max(np.abs(F - F_golden)) <= 1e-9 * np.max(np.abs(F_golden))
@@ -100,23 +101,33 @@ def test_sub_steps_follow_h_max(spec, h_max, tmp_path):
     record = golden_record(cols)
     n = fmu_export.substeps_of(record.dt, h_max)
     assert n == round(record.dt / h_max) > 1
-    assert validate(path, cal, record, inputs="dva") <= MIRROR_OF
+    assert validate(path, cal, record, inputs="dva@end") <= MIRROR_OF
     F_one = cal.model.force(record, cal.params[None, :])[0]
-    assert objective(F_one, simulate(path, record, inputs="dva")["F"], record.t) > 10 * MIRROR_OF
+    assert objective(F_one, simulate(path, record, inputs="dva", at_step_end=True)["F"], record.t) > 10 * MIRROR_OF
 
 
 @toolchain
-def test_start_of_step_inputs_delay_the_force(built):
-    """The convention matters: a master that sends d at the start of each step
-    delays the force by one step (OF 0.02 on law 2)."""
+@pytest.mark.parametrize("spec", ["2", "6", "7", "9"])
+def test_a_standard_master_gets_the_force_without_a_lag(spec, built, tmp_path):
+    """FMI's convention: FMPy's simulate_fmu with the record's displacement
+    alone, set at each communication point, the FMU's only input file column
+    (the way `fmpy simulate --input-file` drives it): the force at t + h
+    reproduces the law's, computed independently by the Python model, within
+    OF 0.005 (the FMU extrapolates d over each step and redoes the step when
+    d(t + h) comes); the end-of-step convention, driven the same way, lags one
+    step and misses by more than 5x that."""
     from fmpy import simulate_fmu
 
-    cal, path, record, _ = built("2")
-    signal = np.zeros(record.n, dtype=[("time", float), ("d", float), ("v", float), ("a", float)])
-    signal["time"], signal["d"], signal["v"], signal["a"] = record.t, record.d, record.v, record.a
-    res = simulate_fmu(path, stop_time=record.t[-1], output_interval=record.dt, input=signal, output=["F"])
+    cal, path, record, _ = built(spec)
+    signal = np.zeros(record.n, dtype=[("time", float), ("d", float)])
+    signal["time"], signal["d"] = record.t, record.d
     F_ref = cal.model.force(record, cal.params[None, :])[0]
-    assert objective(F_ref, res["F"], record.t) > 10 * validate(path, cal, record)
+    F = simulate_fmu(path, stop_time=record.t[-1], output_interval=record.dt, input=signal, output=["F"])["F"]
+    of = objective(F_ref, F, record.t)
+    assert of <= 0.005
+    lagged = simulate_fmu(path, stop_time=record.t[-1], output_interval=record.dt, input=signal, output=["F"],
+                          start_values={"inputs_at_step_end": True})["F"]
+    assert objective(F_ref, lagged, record.t) > 5 * of
 
 
 def test_end_of_step_input_shifts_the_record():
@@ -130,15 +141,17 @@ def test_end_of_step_input_shifts_the_record():
 
 # ------------------------------------------------------------------ FMU state
 class Slave:
-    """One FMU instance driven step by step, end-of-step inputs, log collected."""
+    """One FMU instance driven step by step, end-of-step inputs (or, with
+    ``at_end`` False, FMI's: the inputs at each step's start), log collected."""
 
-    def __init__(self, path, tmp_path, start=None):
+    def __init__(self, path, tmp_path, start=None, at_end: bool = True):
         self.md = read_model_description(path)
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
         self.messages = []
         self.fmu = FMU3Slave(guid=self.md.guid, unzipDirectory=extract(path, tmp_path / "x"),
                              modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="damper")
         self.fmu.instantiate(logMessage=fmi3LogMessageCallback(self.log))
+        self.fmu.setBoolean([self.vr["inputs_at_step_end"]], [at_end])
         for name, value in (start or {}).items():
             setter = self.fmu.setInt32 if name == "law" else self.fmu.setFloat64
             setter([self.vr[name]], [value])
@@ -196,6 +209,12 @@ def test_derived_velocity_is_second_order_at_variable_steps(built, tmp_path):
     d = 3.0 * t ** 2 + 2.0 * t  # [mm], v = 6 t + 2 [mm/s]
     F = [run.step(t[k - 1], t[k] - t[k - 1], d[k])[0] for k in range(1, t.size)]
     assert np.allclose(np.array(F[1:]) / C, 6.0 * t[2:] + 2.0, rtol=1e-9)
+    # FMI's convention, d(t_k) set before the step to t_k+1: the extrapolation through the last
+    # three points is exact for a quadratic motion, so F(t_k+1) is too, from the fourth point on
+    run = Slave(path, tmp_path / "fmi", at_end=False)
+    run.initialize(0.0)
+    F = [run.step(t[k - 1], t[k] - t[k - 1], d[k - 1])[0] for k in range(1, t.size)]
+    assert np.allclose(np.array(F[3:]) / C, 6.0 * t[4:] + 2.0, rtol=1e-9)
 
 
 # ------------------------------------------------------ bad parameters, inputs
@@ -264,7 +283,7 @@ def test_fmu_contents_and_metadata(built, tmp_path):
     start = {v.name: v.start for v in md.modelVariables}
     assert start["law"] == "2" and start["friction.enabled"] == "true" and start["gap.enabled"] == "false"
     assert float(start["law2.C"]) == cal.named()["C"] and float(start["friction.Ff"]) == cal.named()["friction.Ff"]
-    assert "2+friction" in md.description and "END of the step" in md.description
+    assert "2+friction" in md.description and "at each communication point" in md.description
     assert md.description.startswith(f"damper: {LAWS[2].name} with friction (")
     with zipfile.ZipFile(path) as zf:
         assert zf.read("sources/config.h").decode() == fmu_interface.config_header()

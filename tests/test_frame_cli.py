@@ -105,6 +105,7 @@ def test_frame_tells_what_it_ran(series, tmp_path):
     assert float(runs["two"][case]["force [kN]"]) == pytest.approx(0.5 * float(runs["double"][case]["force [kN]"]),
                                                                   rel=1e-9)
     one = frame(str(law2), "--record", rec, "--out", str(tmp_path / "one"), "--no-figures", "--quiet")
+    assert one.returncode == 0, one.stderr[-2000:]
     single = {r["case"]: r for r in csv.DictReader(open(tmp_path / "one" / "frame_table.csv"))}
     assert float(single[case]["drift [%]"]) > float(runs["two"][case]["drift [%]"])
     bad = frame(str(law2), "--record", rec, "--dampers-per-story", "0", "--out", str(tmp_path / "z"))

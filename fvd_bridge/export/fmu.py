@@ -12,13 +12,18 @@ compiled for this platform by FMPy's CMake project
 ``validate(fmu, calibration, record)`` checks it with FMPy and returns the
 OF (paper eq. 18) of its force against the Python model's.
 
-Co-simulation convention (the FMU's inputs): before ``fmi3DoStep(t, h)`` the
-master sets the pin's displacement d [mm] at the END of the step, d(t + h);
-the FMU integrates over [t, t + h] in ceil(h / h_max) equal sub-steps and
-its outputs F [kN], z, E [kN mm] are the values at t + h.  The velocity and
-acceleration are derived from the samples of d (second-order backward
-differences, from rest), or taken from the inputs v [mm/s], a [mm/s^2]
-with the structural parameters use_velocity_input, use_acceleration_input.
+Co-simulation convention (the FMU's inputs): FMI's by default, the master
+sets the pin's displacement d [mm] at the communication point t before
+``fmi3DoStep(t, h)``; the FMU redoes its last step with it (its state stays
+exact), extrapolates d to t + h (second order, from the last three points)
+and steps there: its outputs F [kN], z, E [kN mm] are the values at t + h,
+without a one-step lag.  With the structural parameter inputs_at_step_end
+the master sets d(t + h) itself and the step is exact (fvd_bridge's
+co-simulation).  Each step is integrated in ceil(h / h_max) equal
+sub-steps.  The velocity and acceleration are derived from the samples of
+d (second-order backward differences, from rest), or taken from the inputs
+v [mm/s], a [mm/s^2] once the master sets them (or with the structural
+parameters use_velocity_input, use_acceleration_input).
 Variables: ``fmu_interface.variables()``; law parameters are named
 ``law<N>.<name>`` (law2.C), effect parameters as in the calibration file
 (friction.Ff), effects switched by ``<effect>.enabled``.
@@ -182,9 +187,11 @@ def fmu_forces(fmu_path, calibration, record, inputs=("d",)) -> tuple[np.ndarray
     """The Python model's force on the record (``calibration.force`` at the
     FMU's sub-steps per sample) and the FMU's {inputs: force} [kN], the FMU
     driven by FMPy's ``simulate_fmu`` with the record's d ('d'), d and v
-    ('dv') or d, v and a ('dva'), each sample sent before the step that ends
-    there.  The file is checked by ``fmpy.validate_fmu`` once: a file it finds
-    problems in is an InputError."""
+    ('dv') or d, v and a ('dva'), FMI's way (each sample set at its
+    communication point), or with '@end' ('dva@end') each sample sent before
+    the step that ends there (inputs_at_step_end: exact).  The file is
+    checked by ``fmpy.validate_fmu`` once: a file it finds problems in is an
+    InputError."""
     fmu_path = os.fspath(fmu_path)
     problems = validate_fmu(fmu_path)
     if problems:
@@ -193,32 +200,45 @@ def fmu_forces(fmu_path, calibration, record, inputs=("d",)) -> tuple[np.ndarray
     md = read_model_description(fmu_path)
     h_max = float(next(v.start for v in md.modelVariables if v.name == "h_max"))
     F_model = calibration.force(record, substeps_of(record.dt, h_max))
-    return F_model, {i: simulate(fmu_path, record, i, ("F",))["F"] for i in inputs}
+    return F_model, {i: simulate(fmu_path, record, i.split("@")[0], ("F",), at_step_end=i.endswith("@end"))["F"]
+                     for i in inputs}
 
 
 def validate(fmu_path, calibration, record, inputs: str = "d") -> float:
     """OF (paper eq. 18) of the FMU's force against the Python model's on the
-    record (``fmu_forces``); the caller compares it with OF_BOUND."""
-    F_model, F_fmu = fmu_forces(fmu_path, calibration, record, (inputs,))
+    record (``fmu_forces``; 'dva@end' is the C mirror, which must stay
+    within OF_BOUND)."""
+    F_model, F_fmu = fmu_forces(fmu_path, calibration, record, (inputs,))  # 'dva@end': at each step's end
     return float(objective(F_model, F_fmu[inputs], record.t))
 
 
-def simulate(fmu_path, record, inputs: str = "d", outputs=("F", "z", "E")) -> dict:
+def simulate(fmu_path, record, inputs: str = "d", outputs=("F", "z", "E"), at_step_end: bool = False) -> dict:
     """Outputs {name: (n_t,)} of the FMU driven by the record with FMPy's
-    ``simulate_fmu`` (one communication step per sample, each sample of the
-    record sent before the step that ends there); ``inputs`` 'd', 'dv' or
-    'dva' sets use_velocity_input and use_acceleration_input (the FMU
-    ignores the inputs it does not use)."""
+    ``simulate_fmu`` (one communication step per sample): ``inputs`` 'd',
+    'dv' or 'dva', each sample set at its own time, FMI's convention (or,
+    ``at_step_end``, sent before the step that ends there, with
+    inputs_at_step_end)."""
     if inputs not in INPUTS:
         raise InputError(f"inputs '{inputs}': expected one of {', '.join(INPUTS)}")
     t = np.asarray(record.t, dtype=float)
+    names = tuple(inputs)
+    signal = end_of_step_input(record, names) if at_step_end else sampled_input(record, names)
     result = simulate_fmu(os.fspath(fmu_path), start_time=t[0], stop_time=t[-1], step_size=record.dt,
                           output_interval=record.dt,  # else FMPy may double the communication step
-                          input=end_of_step_input(record), output=list(outputs),
-                          start_values={"use_velocity_input": "v" in inputs, "use_acceleration_input": "a" in inputs})
+                          input=signal, output=list(outputs), start_values={"inputs_at_step_end": at_step_end})
     if result.size != t.size or not np.allclose(result["time"], t, rtol=0.0, atol=1e-9 * max(1.0, abs(t[-1]))):
         raise RuntimeError(f"{fmu_path}: FMPy returned {result.size} samples for the record's {t.size}")
     return {name: np.asarray(result[name], dtype=float) for name in outputs}
+
+
+def sampled_input(record, names=("d",)) -> np.ndarray:
+    """FMPy input signal of the record's samples at their times (FMI's
+    convention: the inputs at each communication point)."""
+    signal = np.zeros(record.n, dtype=[("time", float)] + [(n, float) for n in names])
+    signal["time"] = record.t
+    for n in names:
+        signal[n] = np.asarray(getattr(record, n), dtype=float)
+    return signal
 
 
 def end_of_step_input(record, names=("d", "v", "a")) -> np.ndarray:
@@ -288,8 +308,8 @@ def _description(calibration) -> str:
     return (f"{_device(calibration)}: {kind} (fvd_bridge model {model.spec}: law {law.number}, {law.equation}"
             f"{effects}), calibrated by fvd_bridge to OF {calibration.of:.4g}{source}; "
             f"{calibration.tested_text()}. "
-            "Set d(t + h) [mm], the pin's displacement at the END of the step, before fmi3DoStep(t, h); "
-            "units kN, mm, s.")
+            "Set d [mm] (and v, a when you have them) at each communication point before fmi3DoStep, as FMI "
+            "masters do (inputs_at_step_end: at the step's end); units kN, mm, s.")
 
 
 def _annotation(calibration) -> ET.Element:

@@ -10,7 +10,7 @@ or an effect added to the registry appears in the FMU's interface as it is.
 Variables, in value-reference order (``variables()``): ``time``; the inputs
 ``d``, ``v``, ``a``; the outputs ``F``, ``z``, ``E``; the structural
 parameters ``law``, ``<effect>.enabled`` (BUILTIN order),
-``use_velocity_input``, ``use_acceleration_input``; the parameters
+``use_velocity_input``, ``use_acceleration_input``, ``inputs_at_step_end``; the parameters
 ``h_max``, ``law<N>.<name>`` (law numbers ascending, parameters in the
 law's order), ``<effect>.<name>`` (``effects.catalog.EFFECT_PARAMETERS`` order).
 
@@ -129,13 +129,13 @@ def variables() -> list:
     stateful = [n for n, law in the_laws.items()
                 if (law.state if hasattr(law, "state") else law.kind == "differential")]
     add("time", "Float64", "independent", "continuous", "Simulation time")
-    add("d", "Float64", "input", "continuous",
-        "pin displacement at the end of the coming step, d(t + h) (positive: tension)", start=0.0, unit="mm")
+    when = "at the communication point t (at t + h with inputs_at_step_end)"
+    add("d", "Float64", "input", "continuous", f"pin displacement {when} (positive: tension)", start=0.0, unit="mm")
     add("v", "Float64", "input", "continuous",
-        "pin velocity at the end of the coming step, used when use_velocity_input (else derived from d)",
+        f"pin velocity {when}, used once set (or with use_velocity_input; else derived from d)",
         start=0.0, unit="mm/s")
     add("a", "Float64", "input", "continuous",
-        "pin acceleration at the end of the coming step, used when use_acceleration_input (else derived from v)",
+        f"pin acceleration {when}, used once set (or with use_acceleration_input; else derived from v)",
         start=0.0, unit="mm/s^2")
     add("F", "Float64", "output", "continuous", "damper force (positive: tension)", unit="kN", initial="calculated")
     add("z", "Float64", "output", "continuous",
@@ -155,6 +155,10 @@ def variables() -> list:
         start=False)
     add("use_acceleration_input", "Boolean", "structuralParameter", "fixed",
         "take a from the input (else a is the second-order backward derivative of the samples of v)", start=False)
+    add("inputs_at_step_end", "Boolean", "structuralParameter", "fixed",
+        "the master sets d, v, a at the END of the coming step, d(t + h), before fmi3DoStep(t, h) (exact; for "
+        "structure-first co-simulation); default: FMI's convention, inputs at t, the FMU extrapolating them to "
+        "t + h (second order) and redoing the step when the inputs at t + h come", start=False)
     add("h_max", "Float64", "parameter", "fixed",
         "largest sub-step: each step h is integrated in ceil(h / h_max) equal sub-steps", start=1e-3, unit="s")
     for number, law in the_laws.items():
@@ -222,7 +226,7 @@ def config_header() -> str:
         f"#define VR_FIRST_OUTPUT {by_name['F'].c_name}",
         f"#define VR_LAST_OUTPUT {by_name['E'].c_name}",
         f"#define VR_FIRST_STRUCTURAL {by_name['law'].c_name}",
-        f"#define VR_LAST_STRUCTURAL {by_name['use_acceleration_input'].c_name}",
+        f"#define VR_LAST_STRUCTURAL {by_name['inputs_at_step_end'].c_name}",
         f"#define VR_FIRST_BOOLEAN {next(v.c_name for v in vs if v.type == 'Boolean')}",
         f"#define VR_FIRST_PARAMETER {by_name['h_max'].c_name}",
         "",

@@ -15,9 +15,9 @@ deformation and rate are the joints' relative displacement and velocity
 along e, d = e . (u_top - u_bottom) [mm], v = e . (v_top - v_bottom) [mm/s]:
 the twoNodeLink's axial deformation under small displacements.
 
-Each communication step [t, t + h] follows the FMU's convention: d(t + h)
-(and v(t + h), ``use_velocity_input``) are set before fmi3DoStep(t, h) and F
-is the force at t + h.  Newmark puts the loads of t + h into the equilibrium
+Each communication step [t, t + h] uses the FMU's end-of-step convention
+(``inputs_at_step_end``): d(t + h) (and v(t + h), ``use_velocity_input``)
+are set before fmi3DoStep(t, h) and F is the force at t + h.  Newmark puts the loads of t + h into the equilibrium
 at t + h, so the frame needs F(t + h) before the FMU can give it:
 
 - ``explicit``: the frame is loaded with the forces of the previous
@@ -119,7 +119,8 @@ class DamperFMU:
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         self._log = fmi3LogMessageCallback(self._message)  # kept: the FMU calls it back
         self.fmu.instantiate(logMessage=self._log)
-        self.fmu.setBoolean([vr["use_velocity_input"]], [use_velocity])
+        # structural parameters: d(t + h) before each step (exact, structure first); v as given or derived
+        self.fmu.setBoolean([vr["inputs_at_step_end"], vr["use_velocity_input"]], [True, use_velocity])
         self.steps = 0
 
     def _message(self, env, status, category, message):
