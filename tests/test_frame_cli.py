@@ -110,3 +110,36 @@ def test_frame_tells_what_it_ran(series, tmp_path):
     assert float(single[case]["drift [%]"]) > float(runs["two"][case]["drift [%]"])
     bad = frame(str(law2), "--record", rec, "--dampers-per-story", "0", "--out", str(tmp_path / "z"))
     assert bad.returncode == 2 and "--dampers-per-story 0" in bad.stderr and not (tmp_path / "z").exists()
+
+
+def test_an_analysis_that_stops_early_is_left_out_of_the_verdict(series, tmp_path):
+    """Each case's summary gives where its analysis ended and where the record
+    does (analysis_end_s past record_end_s: the free vibration after it); a
+    case that stopped early is left out of the series statistics and the
+    verdict, which names it with the time it stopped at."""
+    from types import SimpleNamespace
+
+    from fvd_bridge.frames.compare import Case, series_spread, verdict
+
+    out = tmp_path / "fr"
+    res = frame(str(series / "cal" / "params" / "dev0"), "--record", str(series / "quake.txt"), "--out", str(out),
+                "--quiet", "--no-figures")
+    assert res.returncode == 0, res.stderr[-2000:]
+    for case in json.load(open(out / "frame_summary.json"))["cases"]:
+        r = case["response"]
+        assert r["record_end_s"] == pytest.approx(3.99, abs=1e-6) and r["analysis_end_s"] > r["record_end_s"]
+        assert r["solver"]["completed"]
+
+    def case(spec, drift, completed):
+        solver = SimpleNamespace(completed=completed, failed_at=None if completed else 37.4)
+        result = SimpleNamespace(solver=solver, record_end=53.7, t=np.array([0.0]))
+        c = Case(f"law {spec} | dev", spec, "dev", 0.01 if spec == "9" else 0.02, result=result, n_params=2)
+        c.values = lambda: {"drift": drift, "residual": 0.0, "pfa": 0.3, "force": 100.0, "stroke": 10.0,
+                            "energy": 1.0}
+        return c
+    cases = [case("2", 1.00, False), case("1", 1.02, True), case("9", 1.01, True)]
+    spread = series_spread(cases)
+    assert set(spread) == {"1", "9"}
+    text = verdict(spread, cases)
+    assert "simplest within 5% on peak drift and damper force: law 1" in text
+    assert "left out, the analysis did not reach its end: law 2 | dev (stopped at 37.4 s of the record's 53.7 s)" in text

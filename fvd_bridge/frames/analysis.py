@@ -109,6 +109,7 @@ class FrameResult:
             return None if a is None else [float(x) if np.isfinite(x) else None for x in a]
         return {
             "building": self.building, "motion": self.motion,
+            "analysis_end_s": float(self.t[-1]) if self.t.size else 0.0, "record_end_s": float(self.record_end),
             "periods_s": listed(self.periods),
             "peak_drift_ratio": listed(self.peak_drift_ratio), "max_drift_ratio": self.max_drift_ratio,
             "residual_drift_ratio": listed(self.residual_drift_ratio),

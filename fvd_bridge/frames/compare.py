@@ -106,7 +106,8 @@ def damper_motion(result) -> dict:
 def _exceeded(case: Case, cal=None) -> list:
     v = case.values()
     out = []
-    if cal is not None and case.result is not None and case.result.damper_deformation is not None:
+    if (cal is not None and case.result is not None and case.result.damper_deformation is not None
+            and case.result.t.size >= 3):
         motion = damper_motion(case.result)
         out += [line for line in cal.beyond_tested(motion, what_of="the dampers' motion")
                 if "stroke" not in line or case.limits.get("stroke") is None]
@@ -162,10 +163,12 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
 
 def series_spread(cases) -> dict:
     """{spec: {quantity: (min, mean, max, cov)}} over the devices of each model
-    (cov = std / |mean|, NaN for a single device); plus 'devices' and 'of'."""
+    whose analysis reached its end (cov = std / |mean|, NaN for a single
+    device); plus 'devices' and 'of'."""
     out = {}
-    for spec in dict.fromkeys(c.spec for c in cases if c.spec is not None and c.result is not None):
-        group = [c for c in cases if c.spec == spec and c.result is not None]
+    ran = [c for c in cases if c.spec is not None and c.result is not None and c.result.solver.completed]
+    for spec in dict.fromkeys(c.spec for c in ran):
+        group = [c for c in ran if c.spec == spec]
         values = [c.values() for c in group]
         stats = {}
         for key, _, _ in QUANTITIES:
@@ -180,12 +183,23 @@ def series_spread(cases) -> dict:
     return out
 
 
-def verdict(spread: dict) -> str:
+def unfinished(cases) -> list[str]:
+    """'law 2 | dev (stopped at 37.4 s of the record's 53.7 s)' for each damper
+    case whose analysis did not reach its end (left out of the verdict)."""
+    return [f"{c.label} (stopped at {c.result.solver.failed_at or c.result.t[-1]:.1f} s of the record's "
+            f"{c.result.record_end:.1f} s)" for c in cases
+            if c.spec is not None and c.result is not None and not c.result.solver.completed]
+
+
+def verdict(spread: dict, cases=()) -> str:
     """The simplest model (fewest parameters, then lowest law number) whose mean
     peak drift and damper force are within VERDICT_TOLERANCE of the best-fitting
-    model's, with the series scatter (CoV) as the yardstick."""
+    model's, with the series scatter (CoV) as the yardstick; an analysis that
+    did not reach its end (in ``cases``) is left out, and said so."""
+    gone = unfinished(cases)
+    left_out = f"; left out, the analysis did not reach its end: {'; '.join(gone)}" if gone else ""
     if not spread:
-        return "no damper model ran"
+        return "no damper model ran to the end" + left_out
     best = min(spread, key=lambda s: spread[s]["of"])
     ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
 
@@ -202,4 +216,4 @@ def verdict(spread: dict) -> str:
     spread_laws = max(diffs.values())
     return (f"best-fitting model: law {best} (mean OF {spread[best]['of']:.4g}); simplest within "
             f"{100 * VERDICT_TOLERANCE:.0f}% on peak drift and damper force: law {simplest}; the choice of model "
-            f"changes them by up to {100 * spread_laws:.1f}%{yard}")
+            f"changes them by up to {100 * spread_laws:.1f}%{yard}{left_out}")

@@ -34,7 +34,7 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
     share kept) into the summary; ``log``: OpenSees' own messages, kept as
     opensees.log."""
     spread = series_spread(cases)
-    text = verdict(spread)
+    text = verdict(spread, cases)
     with staged_dir(out) as stage:
         header = ["case", "model", "device", "calibration_of"] + [f"{k} [{u}]" for k, _, u in QUANTITIES] + [
             "opensees", "algorithms", "exceeded", "note"]
