@@ -32,6 +32,7 @@ Variables: ``fmu_interface.variables()``; law parameters are named
 from __future__ import annotations
 
 import contextlib
+import io
 import math
 import os
 import shutil
@@ -223,9 +224,10 @@ def simulate(fmu_path, record, inputs: str = "d", outputs=("F", "z", "E"), at_st
     t = np.asarray(record.t, dtype=float)
     names = tuple(inputs)
     signal = end_of_step_input(record, names) if at_step_end else sampled_input(record, names)
-    result = simulate_fmu(os.fspath(fmu_path), start_time=t[0], stop_time=t[-1], step_size=record.dt,
-                          output_interval=record.dt,  # else FMPy may double the communication step
-                          input=signal, output=list(outputs), start_values={"inputs_at_step_end": at_step_end})
+    with contextlib.redirect_stdout(io.StringIO()):  # FMPy prints 'missing input for variable v' for each unused input
+        result = simulate_fmu(os.fspath(fmu_path), start_time=t[0], stop_time=t[-1], step_size=record.dt,
+                              output_interval=record.dt,  # else FMPy may double the communication step
+                              input=signal, output=list(outputs), start_values={"inputs_at_step_end": at_step_end})
     if result.size != t.size or not np.allclose(result["time"], t, rtol=0.0, atol=1e-9 * max(1.0, abs(t[-1]))):
         raise RuntimeError(f"{fmu_path}: FMPy returned {result.size} samples for the record's {t.size}")
     return {name: np.asarray(result[name], dtype=float) for name in outputs}
