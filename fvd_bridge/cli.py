@@ -76,7 +76,8 @@ def main(argv=None) -> int:
         sys.stderr.close()
         return 0
     except Terminated:
-        print("fvd-bridge: terminated (SIGTERM): nothing written, workers stopped", file=sys.stderr)
+        print("fvd-bridge: terminated (SIGTERM): workers stopped, no partial output left (a campaign keeps its "
+              "finished units for the next start)", file=sys.stderr)
         return 143
     except KeyboardInterrupt:
         print("fvd-bridge: interrupted", file=sys.stderr)
