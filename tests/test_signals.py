@@ -66,3 +66,31 @@ def test_sigterm_stops_every_worker_and_writes_nothing(tmp_path):
     time.sleep(0.5)
     assert not [pid for pid in workers if _alive(pid)]
     assert not out.exists() or not any(out.iterdir())
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="reads the process tree from /proc")
+def test_sigterm_stops_a_dask_campaign(tmp_path):
+    """The same with a Dask LocalCluster the campaign started: its worker
+    processes end with the run; the unit store keeps what finished."""
+    pytest.importorskip("distributed")
+    (tmp_path / "c.yaml").write_text(
+        "rig: {devices: 2, nominal: {C: 45.4, alpha: 0.3, Ks: 150}, protocol: {name: paper, cycles: 3}, seed: 0}\n"
+        "models: 6,7,9\nruns: 20\nout: out\njobs: 2\nintervals: 0\nno_figures: true\nexecutor: dask\n")
+    proc = subprocess.Popen([*CLI, "campaign", str(tmp_path / "c.yaml")], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=cli_env(), cwd=tmp_path)
+    workers: set[int] = set()
+    deadline = time.time() + 180
+    while time.time() < deadline and not (tmp_path / "out" / ".units").is_dir():
+        workers |= _children(proc.pid)
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.5)
+    time.sleep(3.0)  # units running on the workers
+    workers |= _children(proc.pid)
+    assert len(workers) >= 2, "the cluster did not start"
+    proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 143, stderr[-2000:]
+    assert "terminated (SIGTERM)" in stderr and "Traceback" not in stderr
+    time.sleep(1.0)
+    assert not [pid for pid in workers if _alive(pid)]
