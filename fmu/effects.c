@@ -309,7 +309,7 @@ enum { SW, SU, SZ, SW0, SPW, SXL, SQ, SDQ };  /* series_sample's state (w, u, z,
 
 static void series_rest(double x0, double Ks, double half, double Kp, double F0, double *state) {
     memset(state, 0, N_SPRING * sizeof(double));
-    if (half == 0.0 && !isinf(Ks) && (Kp != 0.0 || F0 != 0.0)) state[SW] = (Kp * x0 + F0) / (Ks + Kp);
+    if (half == 0.0 && !isinf(Ks) && Ks + Kp > 0.0) state[SW] = (Kp * x0 + F0) / (Ks + Kp);
     state[SXL] = x0 - state[SW];
 }
 

@@ -76,9 +76,9 @@ def to_script(commands, lang: str = "py", comments=()) -> str:
     return "\n".join(lines) + "\n"
 
 
-def define(commands, lang: str, name: str, tag: int, helpers: int, comments=(), doc: str = "") -> str:
+def define(commands, lang: str, name: str, tag: int, comments=(), doc: str = "") -> str:
     """The commands as a definition function ``name`` of the material tag
-    (its helpers tag + 1 ... tag + ``helpers``: the commands' Tag arguments),
+    (its helpers tag + 1 ... tag + n: the commands' Tag arguments),
     which a script run as it is calls with ``tag``.  Python: ``def
     name(ops, tag=TAG)``, called under ``if __name__ == "__main__"`` (so an
     import defines nothing until the caller calls it, after any
@@ -86,6 +86,7 @@ def define(commands, lang: str, name: str, tag: int, helpers: int, comments=(), 
     the end unless ``fvd_bridge_define_only`` is set before ``source``."""
     commands = listed(commands)
     head = list(comments)
+    helpers = max((a.offset for c in commands for a in c if isinstance(a, Tag)), default=0)
     if lang == "py":
         body = [f"    ops.{c}({', '.join(_literal(a, lang, True) for a in args)})" for c, *args in commands]
         lines = head + ["import openseespy.opensees as ops", "",

@@ -12,6 +12,7 @@ switches the effect off.  Forces in kN, positive in tension.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -152,6 +153,22 @@ def _spring(what: str) -> Parameter:
                      f"{what}; Ks >= {KS_RIGID:.0e} is rigid", log=True)
 
 
+#: a flexible connection with the whole damper behind it; ``oil_column`` is the same spring inside it
+SERIES_STIFFNESS = Effect(
+    name="series_stiffness", stage="series", order=20, function=None, none=(math.inf,), slots=("Ks",),
+    off_rule=_spring_rigid,
+    parameters=(_spring("spring in series with the whole damper (a flexible connection, rod, clevis or "
+                        "frame)"),),
+    equation="F = Ks (d - x) = element(x, dx/dt) (with a gap: Ks dz(d - x, g/2)); "
+             "seal friction and accumulator behind the spring",
+    summary="series flexibility outside the damper: a connection, rod or frame spring with the whole damper "
+            "(orifice, seal friction, accumulator) behind it (Maxwell model)",
+    symptom="force lags the velocity at reversals (tilted loop, force not zero at zero velocity)",
+    cause="the connections flex (or the fluid is compressible)",
+    cause_hysteretic="the device's body, connections or supports flex in series with it",
+    size=sizes.series_spring, reference=(50.0,), fmu=True,
+    opensees=OpenSeesForm("the law's series form (laws 1, 2: ViscousDamper Ks C alpha)", None))
+
 BUILTIN = (
     Effect(
         name="gap", stage="series", order=10, function=None, none=(0.0,), slots=("g",), off_rule=_gap_closed,
@@ -166,23 +183,9 @@ BUILTIN = (
         cause_hysteretic="the connection has play: no force passes while the pin crosses its clearance",
         size=sizes.gap, reference=(1.0,), fmu=True,
         no_opensees="the pin gap (a contact gap in series with the law: no force in the clearance)"),
-    Effect(
-        name="series_stiffness", stage="series", order=20, function=None, none=(math.inf,), slots=("Ks",),
-        off_rule=_spring_rigid,
-        parameters=(_spring("spring in series with the whole damper (a flexible connection, rod, clevis or "
-                            "frame)"),),
-        equation="F = Ks (d - x) = element(x, dx/dt) (with a gap: Ks dz(d - x, g/2)); "
-                 "seal friction and accumulator behind the spring",
-        summary="series flexibility outside the damper: a connection, rod or frame spring with the whole damper "
-                "(orifice, seal friction, accumulator) behind it (Maxwell model)",
-        symptom="force lags the velocity at reversals (tilted loop, force not zero at zero velocity)",
-        cause="the connections flex (or the fluid is compressible)",
-        cause_hysteretic="the device's body, connections or supports flex in series with it",
-        size=sizes.series_spring, reference=(50.0,), fmu=True,
-        opensees=OpenSeesForm("the law's series form (laws 1, 2: ViscousDamper Ks C alpha)", None)),
-    Effect(
-        name="oil_column", stage="series", order=20, function=None, none=(math.inf,), slots=("Ks",),
-        off_rule=_spring_rigid, arrangement_of="series_stiffness",
+    SERIES_STIFFNESS,
+    replace(
+        SERIES_STIFFNESS, name="oil_column", arrangement_of="series_stiffness",
         parameters=(_spring("stiffness of the compressible oil column, in series with the orifice only"),),
         equation="F = Ks (d - x) = orifice(x, dx/dt) + seal friction(d') + accumulator(d): the seal and the "
                  "accumulator act on the rod's full stroke, beside the oil column and orifice",
@@ -191,7 +194,6 @@ BUILTIN = (
         symptom="force lags the velocity at reversals, while a friction force turns at once with the stroke",
         cause="the oil is compressible (the seal rubs on the rod's full stroke)",
         cause_hysteretic="the fluid or body of the device is compressible while its rubbing parts follow the rod",
-        size=sizes.series_spring, reference=(50.0,), fmu=True,
         opensees=OpenSeesForm("the law's series form beside the seal and accumulator "
                               "(laws 1, 2: Parallel(ViscousDamper Ks C alpha, friction, spring))", None)),
     Effect(

@@ -187,8 +187,9 @@ def series_rest(x0, Ks, half, Kp, F0):
     """State of ``series_sample`` at rest, the pin at x0 [mm]: a gap's pin
     centred in its clearance, the law at rest; a spring (Ks [kN/mm] finite,
     no gap) holds the accumulator behind it, Kp [kN/mm] and F0 [kN], in
-    equilibrium: Ks w = Kp (x0 - w) + F0.  (w, u, z, W0, pw, x_o, q, dq)."""
-    w = (Kp * x0 + F0) / (Ks + Kp) if half == 0.0 and not math.isinf(Ks) and (Kp != 0.0 or F0 != 0.0) else 0.0
+    equilibrium: Ks w = Kp (x0 - w) + F0 (none where Ks + Kp <= 0 has no
+    rest).  (w, u, z, W0, pw, x_o, q, dq)."""
+    w = (Kp * x0 + F0) / (Ks + Kp) if half == 0.0 and not math.isinf(Ks) and Ks + Kp > 0.0 else 0.0
     return (w, 0.0, 0.0, 0.0, 0.0, x0 - w, 0.0, 0.0)
 
 

@@ -128,7 +128,6 @@ class Export:
     tabulated: float = 0.0
     global_step: bool = False
     units: dict = field(default_factory=lambda: dict(SYSTEM))
-    helpers: int = 0
 
     def to_kN(self, F) -> np.ndarray:
         """The material's force in its units -> kN."""
@@ -218,7 +217,7 @@ def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
     commands = s.finish(s.parallel(tags))
     return Export(model.spec, commands, s.tag, not s.notes, "; ".join(s.notes) or "exact",
                   hysteretic=form.accuracy == "hysteretic", tabulated=s.tabulated, global_step=s.global_step,
-                  units=system, helpers=len(commands) - 1)
+                  units=system)
 
 
 # ------------------------------------------------------------------ output
@@ -249,5 +248,5 @@ def to_script(commands, lang: str = "py", comments=()) -> str:
         head.append("# solving: a power-law dashpot with alpha < 0.5 has an unbounded tangent at velocity "
                     "reversals; test the force residual (NormUnbalance) and, where Newton fails, retry the step "
                     "with KrylovNewton, NewtonLineSearch, then halved steps (as fvd-bridge frame does)")
-    return define(ex.commands, lang, DEFINE, ex.tag, ex.helpers, head,
+    return define(ex.commands, lang, DEFINE, ex.tag, head,
                   f"Define the {ex.model} damper ({units})")
