@@ -261,3 +261,13 @@ def test_bad_input_in_process(case, tmp_path, capsys):
     captured = capsys.readouterr()
     assert captured.out == ""
     check(case, path, expected, rc, captured.err)
+
+
+@pytest.mark.parametrize("verb", cli.VERBS)
+def test_every_verb_prints_its_help(verb, capsys):
+    """argparse formats help strings with %: a literal percent sign in one
+    (say '50% of the energy') breaks ``VERB --help`` with a traceback."""
+    with pytest.raises(SystemExit) as stop:
+        cli.main([verb, "--help"])
+    assert stop.value.code == 0
+    assert f"fvd-bridge {verb}" in capsys.readouterr().out

@@ -34,7 +34,7 @@ def add_parser(sub):
     p.add_argument("--scale-pga", type=float, metavar="G", help="scale the record to this peak ground acceleration [g]")
     p.add_argument("--duration", type=float, metavar="S",
                    help="use only the first S seconds of the record (warned when it keeps less than "
-                        f"{KEEP_WARN:.0%} of the record's energy)")
+                        f"{KEEP_WARN:.0%}% of the record's energy)")
     p.add_argument("--dampers-per-story", type=int, default=1, metavar="N",
                    help="dampers side by side in each story (default 1); forces are reported per damper")
     p.add_argument("--scale-force", type=float, default=1.0, metavar="S",
