@@ -140,6 +140,21 @@ class Calibration:
         name = (self.record or {}).get("name")
         return [*([f"calibrated on record {name}"] if name else []), self.tested_text()]
 
+    def solving(self, export):
+        """The OpenSees export as a frame analysis runs it: a power-law dashpot
+        that defeats Newton behind a spring that deflects 0.5% of the tested
+        stroke (``export.opensees.solving_springs``)."""
+        from .export.opensees import solving_springs
+
+        return solving_springs(export, self.tested.get("d"), self.tested.get("v"))
+
+    def export_lines(self, export) -> list[str]:
+        """An OpenSees script's header lines of this calibration: its record,
+        tested range and, where a frame analysis runs it otherwise, how."""
+        from .export.opensees import solving_advice
+
+        return self.provenance_lines() + solving_advice(export, self.solving(export))
+
     def to_opensees(self, tag: int = 1, units=None, lang: str = "py") -> str:
         """The damper as an OpenSeesPy ('py') or Tcl ('tcl') script defining
         ``define_damper(ops, tag)`` with every value in ``units`` (the OpenSees
@@ -147,7 +162,8 @@ class Calibration:
         ``fvd-bridge export opensees`` writes it."""
         from .export.opensees import opensees_export, to_script
 
-        return to_script(opensees_export(self.model, self.named(), tag, units=units), lang, self.provenance_lines())
+        export = opensees_export(self.model, self.named(), tag, units=units)
+        return to_script(export, lang, self.export_lines(export))
 
     def params_for(self, test: str) -> np.ndarray:
         """The parameter vector on one test (parameters fitted per test take that test's value)."""

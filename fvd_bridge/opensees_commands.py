@@ -87,10 +87,11 @@ def define(commands, lang: str, name: str, tag: int, comments=(), doc: str = "")
     commands = listed(commands)
     head = list(comments)
     helpers = max((a.offset for c in commands for a in c if isinstance(a, Tag)), default=0)
+    taken = f"tag + 1 ... tag + {helpers}" if helpers else "none"
     if lang == "py":
         body = [f"    ops.{c}({', '.join(_literal(a, lang, True) for a in args)})" for c, *args in commands]
         lines = head + ["import openseespy.opensees as ops", "",
-                        f"#: material tags the damper takes beyond its own: tag + 1 ... tag + {helpers}",
+                        f"#: material tags the damper takes beyond its own: {taken}",
                         f"HELPER_TAGS = {helpers}", "", "",
                         f"def {name}(ops, tag={int(tag)}):",
                         f'    """{doc or "Define the damper"} as uniaxial material tag (helpers tag + 1 ... '
@@ -100,7 +101,7 @@ def define(commands, lang: str, name: str, tag: int, comments=(), doc: str = "")
     elif lang == "tcl":
         body = ["    " + " ".join([c] + [_literal(a, lang, True) for a in args]) for c, *args in commands]
         lines = head + _tcl_missing(commands) + [
-            f"# material tags the damper takes beyond its own: tag + 1 ... tag + {helpers}",
+            f"# material tags the damper takes beyond its own: {taken}",
             f"proc {name} {{tag}} {{", *body, "    return $tag", "}",
             f"if {{![info exists fvd_bridge_define_only]}} {{ {name} {int(tag)} }}"]
     else:

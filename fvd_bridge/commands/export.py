@@ -82,7 +82,7 @@ def run_opensees(args) -> int:
         record = read_records([args.check], args)[0]
     if record is not None:
         _warn_beyond(cal, record)
-    script = to_script(export, lang, cal.provenance_lines())
+    script = to_script(export, lang, cal.export_lines(export))
     if record is not None and _check(cal, export, record, args):
         return 1  # the export failed its check: no script written
     if args.output:

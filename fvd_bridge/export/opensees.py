@@ -82,7 +82,7 @@ a material); plugin effects.  Effects at their 'off' values are left out.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -100,6 +100,12 @@ STEP_REF = 0.012
 #: BoucWen (laws 6, 9): OF <= HYSTERESIS_OF_RATE * step ratio (measured: up to 0.33)
 HYSTERESIS_OF_RATE = 0.5
 FMU_HINT = "use the FMU export (fvd-bridge export fmu) instead"
+#: a ``Viscous`` dashpot with an exponent below this defeats Newton at velocity
+#: reversals (frames/transient.py); ``solving_springs`` puts it behind a spring
+NEWTON_ALPHA = 0.5
+#: the solving spring deflects this share of the tested stroke under the
+#: dashpot's force at the tested velocity
+SOLVING_DEFLECTION = 0.005
 
 
 def step_ratio(d) -> float:
@@ -220,6 +226,48 @@ def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
                   units=system)
 
 
+def _newton_defeating(c) -> bool:
+    """A ``Viscous C alpha`` command with alpha < NEWTON_ALPHA."""
+    return c[0] == "uniaxialMaterial" and c[1] == "Viscous" and len(c) > 4 and float(c[4]) < NEWTON_ALPHA
+
+
+def solving_springs(export: Export, stroke: float | None, velocity: float | None) -> Export:
+    """The export with each ``Viscous C alpha`` of alpha < NEWTON_ALPHA behind a
+    stiff series spring: ``ViscousDamper Ks C alpha`` under the same tag, Ks =
+    C v^alpha / (SOLVING_DEFLECTION d) for the tested stroke d [mm] and
+    velocity v [mm/s] (converted to the export's units): the spring deflects
+    0.5% of the stroke.  ViscousDamper integrates the force inside the
+    material and reports no tangent, so Newton never meets the dashpot's
+    unbounded tangent at a velocity reversal (start with KrylovNewton:
+    ``frames.transient.algorithms_for``).  The export itself without such a
+    dashpot or a tested range."""
+    if not stroke or not velocity or not any(_newton_defeating(c) for c in export.commands):
+        return export
+    d, v = in_system(stroke, "mm", export.units), in_system(velocity, "mm/s", export.units)
+    commands, springs = [], []
+    for c in export.commands:
+        if _newton_defeating(c):
+            C, alpha = float(c[3]), float(c[4])
+            Ks = C * v ** alpha / (SOLVING_DEFLECTION * d)
+            c = ("uniaxialMaterial", "ViscousDamper", c[2], Ks, C, alpha)
+            springs.append(f"Viscous {C:.6g} {alpha:.4g} behind Ks {Ks:.6g} {export.units['F']}/{export.units['d']}")
+        commands.append(c)
+    note = (f"{'; '.join(springs)} (solving springs: {100 * SOLVING_DEFLECTION:g}% of the tested stroke "
+            f"{stroke:.4g} mm at {velocity:.4g} mm/s)")
+    return replace(export, commands=commands, exact=False, global_step=True,
+                   note=note if export.note == "exact" else f"{export.note}; {note}")
+
+
+def solving_advice(export: Export, solved: Export) -> list[str]:
+    """Header lines of a script whose export ``solving_springs`` changed: the
+    ViscousDamper that fvd-bridge frame runs in place of each such Viscous."""
+    units = f"{export.units['F']}/{export.units['d']}"
+    return [f"frame analyses: fvd-bridge frame runs material {mine[2]} as ViscousDamper {theirs[3]:.6g} "
+            f"{theirs[4]:.6g} {theirs[5]:.6g} (a solving spring Ks [{units}] that deflects "
+            f"{100 * SOLVING_DEFLECTION:g}% of the tested stroke), starting each step with KrylovNewton"
+            for mine, theirs in zip(export.commands, solved.commands) if mine is not theirs and mine != theirs]
+
+
 # ------------------------------------------------------------------ output
 # listed, apply and NOT_IN_TCL come from fvd_bridge.opensees_commands (the
 # frames build their models from command lists too) and stay importable here.
@@ -244,9 +292,10 @@ def to_script(commands, lang: str = "py", comments=()) -> str:
             f"# units: force {ex.units['F']}, length {ex.units['d']}, time {ex.units['t']} (the OpenSees model's "
             f"must be these: {units})",
             f"# mapping: {ex.note}", *[f"# {line}" for line in comments]]
-    if any(c[1] == "Viscous" and len(c) > 4 and float(c[4]) < 0.5 for c in ex.commands):
+    if any(_newton_defeating(c) for c in ex.commands):
         head.append("# solving: a power-law dashpot with alpha < 0.5 has an unbounded tangent at velocity "
-                    "reversals; test the force residual (NormUnbalance) and, where Newton fails, retry the step "
-                    "with KrylovNewton, NewtonLineSearch, then halved steps (as fvd-bridge frame does)")
+                    "reversals, where Newton diverges; put it behind a stiff spring (ViscousDamper Ks C alpha) or "
+                    "test the force residual (NormUnbalance) and retry a failed step with KrylovNewton, "
+                    "NewtonLineSearch, then halved steps")
     return define(ex.commands, lang, DEFINE, ex.tag, head,
                   f"Define the {ex.model} damper ({units})")

@@ -19,7 +19,8 @@ import openseespy.opensees as ops
 from ..records.motions import G_MM_S2
 from .buildings import Building
 from .model import DAMPER_TAGS_FROM, FrameModel, build_frame
-from .transient import Excitation, SolverReport, Stepper, Steps, solver_report, start_transient, step_through
+from .transient import (Excitation, SolverReport, Stepper, Steps, algorithms_for, solver_report, start_transient,
+                        step_through)
 
 
 @dataclass(frozen=True)
@@ -176,7 +177,7 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
     t_free = max(5.0, 4.0 * model.periods[0]) if free_vibration is None else float(free_vibration)
     start_transient(excitation.dt, excitation.accel)
     links = model.damper_links if record_dampers else ()
-    stepper, h = Stepper(), excitation.h
+    stepper, h = Stepper(algorithms_for(damper)), excitation.h
 
     def advance(t: float):
         if not stepper.step(h):

@@ -138,7 +138,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
                     per_story=per_story)
         commands = None
         try:
-            export = opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM)
+            export = cal.solving(opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM))
             case.exact, case.note, commands = export.exact, export.note, export.commands
         except InputError as exc:
             case.note = str(exc)
@@ -156,8 +156,9 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
         if progress:
             v = case.values()
             force = f", damper force {v['force']:.4g} kN" if np.isfinite(v["force"]) else ""
-            progress(f"{case.label}: peak drift {v['drift']:.3f}%{force} "
-                     f"({', '.join(case.result.solver.algorithms_used)})")
+            how = ", ".join(case.result.solver.algorithms_used) + ("" if case.exact in (True, None) else
+                                                                   f"; {case.note}")
+            progress(f"{case.label}: peak drift {v['drift']:.3f}%{force} ({how})")
     return [case for case, _, _ in runs]
 
 
