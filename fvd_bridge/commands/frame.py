@@ -26,8 +26,12 @@ def add_parser(sub):
                     "OpenSees export), run a ground-motion record, and compare peak and residual drift, floor "
                     "acceleration, damper force, stroke and energy with the bare frame; over the devices of "
                     "a series, the spread per model; ends with the simplest model as good as the best-fitting.")
-    p.add_argument("params", nargs="+", metavar="PARAMS", help="calibration files or calibrate output folders")
-    p.add_argument("--record", required=True, metavar="FILE",
+    p.add_argument("params", nargs="*", metavar="PARAMS", help="calibration files or calibrate output folders")
+    p.add_argument("--periods", action="store_true",
+                   help="print the bare frame's first three periods and frequencies beside the benchmark's "
+                        "and stop (no PARAMS or --record needed)")
+    p.add_argument("--json", action="store_true", help="with --periods: one JSON line {\"periods\": [...], ...}")
+    p.add_argument("--record", metavar="FILE",
                    help="ground motion: 2-column text t,a (g unless --units), USGS .smc, GeoNet .V2A, PEER .AT2")
     p.add_argument("--component", help="V2A component (index or part of its name, e.g. N28W)")
     p.add_argument("--units", help="acceleration unit of a text record (default g; e.g. m/s^2, gal)")
@@ -70,10 +74,48 @@ def calibration_files(paths) -> list[str]:
     return files
 
 
-def load_inputs(args):
-    """Calibrations, building and ground motion, all checked before any analysis."""
+def building_of(args):
     from ..frames import buildings
 
+    return buildings.three_story() if args.building == "3-story" else buildings.nine_story()
+
+
+def print_periods(args) -> int:
+    """The bare frame's first three eigen periods beside the benchmark's."""
+    import json
+
+    import numpy as np
+
+    from ..frames.model import frame_periods
+
+    b = building_of(args)
+    log = tempfile.NamedTemporaryFile(prefix="fvd_bridge_opensees_", suffix=".log", delete=False)
+    log.close()
+    quiet_opensees(log.name)
+    try:
+        T = frame_periods(b, len(b.reference_periods))
+    finally:
+        os.unlink(log.name)
+    ref = np.asarray(b.reference_periods)
+    if args.json:
+        print(json.dumps({"building": b.name, "periods": T.tolist(), "frequencies": (1.0 / T).tolist(),
+                          "benchmark_periods": ref.tolist(), "benchmark_frequencies": (1.0 / ref).tolist(),
+                          "source": b.source}))
+        return 0
+    print(f"{b.name}: bare frame's periods against the benchmark's ({b.source})")
+    print(f"{'mode':>4}  {'period [s]':>10}  {'benchmark':>9}  {'frequency [Hz]':>14}  {'benchmark':>9}  {'f off':>6}")
+    for k, (mine, theirs) in enumerate(zip(T, ref), start=1):
+        print(f"{k:>4}  {mine:>10.4f}  {theirs:>9.4f}  {1 / mine:>14.4f}  {1 / theirs:>9.4f}  "
+              f"{100 * (theirs / mine - 1):>+5.1f}%")
+    return 0
+
+
+def load_inputs(args):
+    """Calibrations, building and ground motion, all checked before any analysis."""
+    if not args.params:
+        raise InputError("frame: give calibration files or calibrate output folders (PARAMS), or --periods")
+    if not args.record:
+        raise InputError("frame: --record FILE is required (a ground motion), except with --periods")
     for name in ("scale_pga", "duration", "stroke_limit", "force_limit", "scale_force"):
         value = getattr(args, name)
         if value is not None and not value > 0:
@@ -99,14 +141,15 @@ def load_inputs(args):
                   file=sys.stderr)
     if args.scale_pga:
         motion = motion.scaled_to_pga(args.scale_pga)
-    building = buildings.three_story() if args.building == "3-story" else buildings.nine_story()
-    return cals, building, motion
+    return cals, building_of(args), motion
 
 
 def run(args) -> int:
     from ..frames.compare import run_cases
     from ..frames.outputs import format_frame_table, write_frame_outputs
 
+    if args.periods:
+        return print_periods(args)
     cals, building, motion = load_inputs(args)
     log = tempfile.NamedTemporaryFile(prefix="fvd_bridge_opensees_", suffix=".log", delete=False)
     log.close()

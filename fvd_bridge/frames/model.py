@@ -55,6 +55,12 @@ from .buildings import Building, Section
 DAMPER_TAGS_FROM = 1000
 #: material tag of the series brace (frame side)
 BRACE_MATERIAL = 999
+#: material tag of the pins' stiff springs, and their stiffness [kN/mm]: 1e5 x
+#: a beam's axial EA/L, so the pinned beam's periods are those of a moment
+#: release to 7 digits
+PIN_MATERIAL, PIN_STIFFNESS = 998, 1e8
+#: element tags of the pins: this plus 100 level + line
+PIN_LINKS_FROM = 6000
 #: geometric transformation tag of the members
 GEOM_TRANSF = 1
 #: element tags of the damper links and brace links, node tags of the brace
@@ -86,6 +92,11 @@ def joint_node(level: int, line: int) -> int:
 def splice_node(story: int, line: int) -> int:
     """Tag of the splice node in ``story`` on column ``line``."""
     return 100 * story + 51 + line
+
+
+def pin_node(level: int, line: int) -> int:
+    """Tag of the node where a beam of ``level`` ends with a simple connection on column ``line``."""
+    return 100 * level + 81 + line
 
 
 def floor_nodes(b: Building) -> tuple[int, ...]:
@@ -140,8 +151,8 @@ class _Members:
     def _tag(self) -> int:
         """The next free frame tag (materials, sections, integrations: 1..998)."""
         tag, self.next_tag = self.next_tag, self.next_tag + 1
-        if tag >= BRACE_MATERIAL:
-            raise InputError(f"building {self.b.name}: too many section types for frame tags 1..998")
+        if tag >= PIN_MATERIAL:
+            raise InputError(f"building {self.b.name}: too many section types for frame tags 1..{PIN_MATERIAL - 1}")
         return tag
 
     def _integration(self, s: Section, fy: float) -> int:
@@ -185,12 +196,30 @@ def _member_commands(b: Building) -> list:
                 members.add(100 * story + 51 + line, splice, top, b.columns[story + 1][line], b.fy_columns)
             else:
                 members.add(100 * story + 1 + line, bottom, top, section, b.fy_columns)
+    pins = []
     for level in range(1, b.levels + 1):
         for bay, section in enumerate(b.beams[level - 1]):
             if section is not None:
-                members.add(2000 + 100 * level + bay, joint_node(level, bay), joint_node(level, bay + 1),
-                            section, b.fy_beams)
-    return members.commands
+                ends = [joint_node(level, line) if line not in b.pinned_lines else pin_node(level, line)
+                        for line in (bay, bay + 1)]
+                members.add(2000 + 100 * level + bay, *ends, section, b.fy_beams)
+                pins += [(level, line) for line in (bay, bay + 1) if line in b.pinned_lines]
+    return _pin_commands(b, pins) + members.commands
+
+
+def _pin_commands(b: Building, pins: list) -> list:
+    """A simple (shear) connection at each (level, line): the beam's end node
+    joined to the joint by a zeroLength of PIN_STIFFNESS in x and y, free in
+    rotation (no Rayleigh damping: a zeroLength adds it only with -doRayleigh)."""
+    if not pins:
+        return []
+    x, z = b.column_lines, b.elevations
+    out = [("uniaxialMaterial", "Elastic", PIN_MATERIAL, PIN_STIFFNESS)]
+    for level, line in pins:
+        out += [("node", pin_node(level, line), x[line], z[level]),
+                ("element", "zeroLength", PIN_LINKS_FROM + 100 * level + line, joint_node(level, line),
+                 pin_node(level, line), "-mat", PIN_MATERIAL, PIN_MATERIAL, "-dir", 1, 2)]
+    return out
 
 
 def structure_commands(b: Building) -> list:
