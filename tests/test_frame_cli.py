@@ -145,8 +145,8 @@ def test_an_analysis_that_stops_early_is_left_out_of_the_verdict(series, tmp_pat
     assert "left out, the analysis did not reach its end: law 2 | dev (stopped at 37.4 s of the record's 53.7 s)" in text
 
 
-@pytest.mark.parametrize("building, within", [("3-story", (0.01, 0.02, 0.03)), ("9-story", (0.001,) * 3)])
-def test_frame_prints_the_periods_beside_the_benchmark(building, within):
+@pytest.mark.parametrize("building", ["3-story", "9-story"])
+def test_frame_prints_the_periods_beside_the_benchmark(building):
     """``frame --building B --periods --json``: the bare frame's first three
     periods (frame_periods') and the benchmark's, as one JSON line."""
     from fvd_bridge.frames.buildings import nine_story, three_story
@@ -160,7 +160,7 @@ def test_frame_prints_the_periods_beside_the_benchmark(building, within):
     assert out["periods"] == pytest.approx(frame_periods(b, 3).tolist(), rel=1e-9)
     f, ref = np.asarray(out["frequencies"]), np.asarray(out["benchmark_frequencies"])
     assert ref.tolist() == pytest.approx([0.99, 3.06, 5.83] if building == "3-story" else [0.443, 1.18, 2.05])
-    assert np.all(np.abs(f / ref - 1) < within)
+    assert np.all(np.abs(f / ref - 1) < 0.002)
     table = subprocess.run(CLI + ["frame", "--building", building, "--periods"], capture_output=True, text=True,
                            env=cli_env()).stdout
     assert "benchmark" in table and len([line for line in table.splitlines() if line.strip()[:1].isdigit()]) == 3
