@@ -20,7 +20,7 @@ from fvd_bridge.catalog import parse_model
 from fvd_bridge.records.cycles import force_noise
 from fvd_bridge.rig import DEMO_NOISE, Noise, demo_series, paper, simulate
 
-OPTIMIZERS = ("ga", "ga+polish", "de")
+OPTIMIZERS = ("ga", "ga+polish", "de", "local")
 
 
 def main() -> None:

@@ -13,6 +13,8 @@ Units: kN, mm, s.
 
 from __future__ import annotations
 
+from dataclasses import asdict
+
 import numpy as np
 
 from .calibration import Calibration
@@ -20,13 +22,13 @@ from .campaign.checks import fit_warnings
 from .catalog import catalog
 from .diagnose import climb, diagnose
 from .errors import InputError
-from .fit import fit_model, settings_for
+from .fit import DEFAULT_OPTIMIZER, fit_model, settings_for
 from .fit.intervals import REPLICATES
 from .fit.intervals import intervals as fit_intervals
 from .fit.nested import nested_start
 
 
-def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = "de",
+def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
               bounds: str = "auto", plugins=(), pop: int | None = None, gens: int | None = None,
               per_test=(), start=None, intervals: int = REPLICATES) -> Calibration:
     """Fit one model to one record (or a Device: its tests together) ``runs``
@@ -50,7 +52,7 @@ def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: st
     OF = np.array([f.of for f in fits])
     stats = {"of_mean": OF.mean(), "of_sigma": OF.std(), "p_mean": P.mean(axis=0), "p_sigma": P.std(axis=0)}
     settings_dict = {"runs": int(runs), "seed": seed, "optimizer": optimizer, "bounds": bounds,
-                     "optimizer_settings": vars(settings), "plugins": list(plugins),
+                     "optimizer_settings": asdict(settings), "plugins": list(plugins),
                      "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
     warnings = [w["message"] for w in fit_warnings(m, fits)]
     ivals = None

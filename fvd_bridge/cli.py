@@ -13,9 +13,10 @@ import logging
 import os
 import signal
 import sys
+import time
 import warnings
 
-from . import __version__
+from . import __version__, timing
 from .errors import InputError
 
 VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",
@@ -67,8 +68,13 @@ def main(argv=None) -> int:
         return 2
     warnings.showwarning = _show_warning
     previous = _on_sigterm()
+    timing.reset()
+    t0 = time.perf_counter()
     try:
-        return int(args.func(args) or 0)
+        rc = int(args.func(args) or 0)
+        if getattr(args, "profile", False):
+            print(timing.report(time.perf_counter() - t0), file=sys.stderr)
+        return rc
     except InputError as exc:
         print(f"fvd-bridge: {exc}", file=sys.stderr)
         return 2

@@ -93,12 +93,13 @@ def test_an_effect_starts_from_its_base_where_the_search_alone_fails(three_tests
     cat = catalog()
     rec, model = three_tests[1], cat.model("2+friction")
     good = fit_model(cat.model("2"), rec, seed=3)
-    alone = fit_model(model, rec, seed=3, settings=tiny, nested=False)
+    alone = fit_model(model, rec, seed=3, optimizer="de", settings=tiny, nested=False)
     assert alone.of > good.of  # the search alone ends worse than the base: the guarantee is needed
     start = nested_start(model, rec, good.names, good.params)
     assert start[-1] == 0.0  # friction off
-    assert fit_model(model, rec, seed=3, settings=tiny, start=start).of <= good.of
-    assert fit_model(model, rec, seed=3, settings=tiny).of <= fit_model(cat.model("2"), rec, seed=3, settings=tiny).of
+    assert fit_model(model, rec, seed=3, optimizer="de", settings=tiny, start=start).of <= good.of
+    assert (fit_model(model, rec, seed=3, optimizer="de", settings=tiny).of
+            <= fit_model(cat.model("2"), rec, seed=3, optimizer="de", settings=tiny).of)
 
 
 def test_advice_taken_on_the_friction_damper_is_never_worse(shared_dir):

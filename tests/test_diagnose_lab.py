@@ -19,7 +19,7 @@ from fvd_bridge.catalog import catalog
 from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
 from fvd_bridge.diagnose.heldout import BaseFolds, folds, held_out
 from fvd_bridge.diagnose.where import half_cycles
-from fvd_bridge.fit import fit_model, settings_for
+from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, settings_for
 from fvd_bridge.golden import REFERENCE
 from fvd_bridge.records import Record
 from fvd_bridge.rig import Device, acceptance, paper, trace
@@ -142,7 +142,7 @@ def test_bad_base_start_is_recovered(folder):
     ends within 1% of calibrate's (the default optimizer, calibrate's seed)."""
     rec = rig_lab("paper", "friction", 0.005, folder)
     model = catalog().model("2")
-    good = fit_model(model, rec, seed=[0, 0, 0, 0], settings=settings_for("de"))
+    good = fit_model(model, rec, seed=[0, 0, 0, 0], settings=settings_for(DEFAULT_OPTIMIZER))
     bad = fit_model(model, rec, seed=0, settings=diagnose_settings(4, 2, 1))
     bad.params = np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01])
     bad.of = float("inf")

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 from tqdm import tqdm
 
+from .. import timing
 from ..catalog import catalog as load_catalog
-from ..fit import settings_for
+from ..fit import DEFAULT_OPTIMIZER, settings_for
 from ..fit.intervals import intervals
 from .executors import Processes
 from .tasks import make_tasks, run_task
@@ -20,7 +21,7 @@ class CampaignSettings:
     specs: tuple
     runs: int = 20
     bounds: str = "auto"
-    optimizer: str = "de"
+    optimizer: str = DEFAULT_OPTIMIZER
     seed: int = 0
     pop: int | None = None
     gens: int | None = None
@@ -63,7 +64,7 @@ class CampaignSettings:
     def as_dict(self) -> dict:
         s = settings_for(self.optimizer, self.pop, self.gens, self.stall)
         return {"specs": list(self.specs), "runs": self.runs, "bounds": self.bounds,
-                "optimizer": self.optimizer, "seed": self.seed, "optimizer_settings": vars(s),
+                "optimizer": self.optimizer, "seed": self.seed, "optimizer_settings": asdict(s),
                 "plugins": list(self.plugins),
                 "bound_overrides": [list(o) for o in self.bound_overrides],
                 "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
@@ -92,6 +93,13 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     finally:
         bar.close()
     return results
+
+
+def book_fit_times(results: dict) -> None:
+    """Each model's fits' own wall times (in whichever process ran them) as
+    ``--profile`` stages."""
+    for (_, spec), runs in results.items():
+        timing.add(f"  law {spec} (summed over workers)", sum(r.wall_s for r in runs if r is not None), len(runs))
 
 
 def interval_task(key: tuple, record, cs, params, bounds, per_test, of):

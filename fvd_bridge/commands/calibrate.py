@@ -10,10 +10,11 @@ import yaml
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..calibration import Calibration
-from ..campaign.runner import CampaignSettings, run_campaign, run_intervals
+from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign, run_intervals
 from ..catalog import catalog as load_catalog
 from ..errors import InputError
-from ..fit import OPTIMIZERS, settings_for
+from .. import timing
+from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS, settings_for
 from ..fit.intervals import REPLICATES
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
 from ..records.device import Device
@@ -53,11 +54,11 @@ def add_campaign_options(p):
                    help="override one parameter's bounds, for every law that has it or for one "
                         "law/spec, e.g. --bound 9:alpha=0,50 (repeatable)")
     p.add_argument("--seed", type=int, default=0, help="base seed; the same seed gives the same results")
-    p.add_argument("--optimizer", default="de", choices=OPTIMIZERS,
+    p.add_argument("--optimizer", default=DEFAULT_OPTIMIZER, choices=OPTIMIZERS,
                    help="'de' (default: differential evolution + polish, reaches the noise floor), "
                         "'ga' (the paper's GA, Table 3), 'ga+polish'")
-    p.add_argument("--pop", type=int, help="population (GA: individuals, default 200; DE: per parameter, 15)")
-    p.add_argument("--gens", type=int, help="maximum generations (default GA 200, DE 300)")
+    p.add_argument("--pop", type=int, help="population (GA: individuals, default 200; DE and local+de's DE check: per parameter, 15)")
+    p.add_argument("--gens", type=int, help="maximum generations (default GA 200, DE and local+de's DE check 300)")
     p.add_argument("--stall", type=int, help="GA: stop after this many generations without improvement (20)")
     p.add_argument("--jobs", type=int, default=0, help="processes (default: one per core)")
     p.add_argument("--plugin", action="append", default=[], help="Python file defining extra effects")
@@ -72,6 +73,7 @@ def add_campaign_options(p):
                         "among the model's) from its parameters; the fit ends no worse than them")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--profile", action="store_true", help="print where the time went (time per stage)")
 
 
 def parse_specs(text: str, catalog) -> tuple:
@@ -240,9 +242,13 @@ def run(args) -> int:
     tests = f" ({len(records[0].tests)} tests)" if args.device else ""
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)
-    results = run_campaign(records, cs, progress=not args.quiet)
-    intervals = run_intervals(records, results, cs, progress=not args.quiet)
-    summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures, intervals=intervals)
+    with timing.stage("fits"):
+        results = run_campaign(records, cs, progress=not args.quiet)
+    book_fit_times(results)
+    with timing.stage("intervals"):
+        intervals = run_intervals(records, results, cs, progress=not args.quiet)
+    with timing.stage("outputs, figures"):
+        summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures, intervals=intervals)
     print(format_report(summary))
     print(f"\nwrote {args.out}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json"
           f"{', figures/' if not args.no_figures else ''})")

@@ -8,6 +8,7 @@ import warnings
 
 import numpy as np
 
+from .. import timing
 from ..errors import InputError
 from ..records import ReadOptions, parse_mapping, read_record
 from ..records.options import NO_COLUMN
@@ -64,7 +65,8 @@ def read_records(paths, args):
     """The records at ``paths``, read with the verb's reading options (and
     cut to ``--window``)."""
     opts = read_options(args)
-    records = [read_record(p, opts) for p in paths]
+    with timing.stage("read records, derive velocity"):
+        records = [read_record(p, opts) for p in paths]
     return [window(r, args.window) for r in records] if getattr(args, "window", None) else records
 
 

@@ -14,10 +14,11 @@ import os
 import sys
 import time
 
+from .. import timing
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
-from ..campaign.runner import CampaignSettings, run_campaign
-from ..fit import OPTIMIZERS
+from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign
+from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS
 from ..laws import PAPER_LAWS
 from ..records import read_record
 from ..rig import DEMO_NOISE, Noise, demo_series, paper, write_series
@@ -34,10 +35,11 @@ def add_parser(sub):
     p.add_argument("--out", default="demo_out", help="output directory (default demo_out)")
     p.add_argument("--quick", action="store_true", help="small optimizer settings (DE population 8 per parameter, 60 generations)")
     p.add_argument("--runs", type=int, help="runs per device and law (default 20)")
-    p.add_argument("--optimizer", default="de", choices=OPTIMIZERS)
+    p.add_argument("--optimizer", default=DEFAULT_OPTIMIZER, choices=OPTIMIZERS)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--jobs", type=int, default=0, help="processes (default: one per core)")
     p.add_argument("--no-figures", action="store_true")
+    p.add_argument("--profile", action="store_true", help="print where the time went (time per stage)")
     p.set_defaults(func=run)
 
 
@@ -58,8 +60,11 @@ def run(args) -> int:
     print(f"demo: {len(records)} virtual devices, paper protocol (10 cycles, 40 mm, 0.5 m/s), records in "
           f"{rec_dir}/; {len(cs.specs)} laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
           file=sys.stderr)
-    results = run_campaign(records, cs)
-    summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures)
+    with timing.stage("fits"):
+        results = run_campaign(records, cs)
+    book_fit_times(results)
+    with timing.stage("outputs, figures"):
+        summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures)
     print(format_report(summary))
     print(f"\ndemo ran with {mode} in {time.perf_counter() - start:.0f} s; outputs in {args.out}/ "
           f"(true device parameters in {rec_dir}/truth.yaml)")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import asdict
 import os
 import sys
 
@@ -12,6 +13,8 @@ from ..calibration import Calibration
 from ..campaign.outputs import spec_file
 from ..catalog import catalog
 from ..errors import InputError
+from .. import timing
+from ..fit import DEFAULT_OPTIMIZER
 from ..io.staging import safe_name, staged_dir
 from ..records.device import Device
 from .calibrate import unique_names
@@ -45,12 +48,13 @@ def add_parser(sub):
                    help="directory for the figures and the JSON report (default results/diagnose)")
     p.add_argument("--no-figures", action="store_true", help="write no figures")
     p.add_argument("--seed", type=int, default=0, help="seed of every fit (default 0)")
-    p.add_argument("--pop", type=int, help="DE population per parameter (diagnose default 8)")
-    p.add_argument("--gens", type=int, help="maximum DE generations (diagnose default 120)")
+    p.add_argument("--pop", type=int, help="population per parameter of the fits' DE check (diagnose default 8)")
+    p.add_argument("--gens", type=int, help="maximum generations of the fits' DE check (diagnose default 120)")
     p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
                    help="Python file defining extra effects (ranked like the built-in ones)")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     add_record_options(p)
+    p.add_argument("--profile", action="store_true", help="print where the time went (time per stage)")
     p.set_defaults(func=run)
 
 
@@ -77,20 +81,22 @@ def run(args) -> int:
             print(msg, file=sys.stderr, flush=True)
 
     lad = None
-    if args.ladder:
-        lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat)
-        diag = lad.final
-    else:
-        diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat)
+    with timing.stage("ladder" if args.ladder else "diagnose"):
+        if args.ladder:
+            lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat)
+            diag = lad.final
+        else:
+            diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat)
     report = diag.as_dict()
-    report["settings"] = {"seed": args.seed, "optimizer": "de", **vars(settings)}
+    report["settings"] = {"seed": args.seed, "optimizer": DEFAULT_OPTIMIZER, **asdict(settings)}
     if lad is not None:
         report["ladder"] = lad.as_dict()
     fits = _refits(diag, lad)
     names = {spec: os.path.join("params", safe_name(record.name), spec_file(spec)) for spec in fits}
     paths = {spec: os.path.join(args.out, name) for spec, name in names.items()}
     _hand_over(report, paths)
-    files = _write(args, record, diag, lad, report, {names[spec]: fit for spec, fit in fits.items()})
+    with timing.stage("outputs, figures"):
+        files = _write(args, record, diag, lad, report, {names[spec]: fit for spec, fit in fits.items()})
     if args.json:
         print(json.dumps(report, indent=1))
     else:

@@ -7,6 +7,7 @@ import os
 import sys
 import tempfile
 
+from .. import timing
 from ..calibration import Calibration
 from ..catalog import catalog
 from ..errors import InputError
@@ -54,6 +55,7 @@ def add_parser(sub):
                    help="output folder (default results/frame)")
     p.add_argument("--no-figures", action="store_true", help="write no figures")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.add_argument("--profile", action="store_true", help="print where the time went (time per analysis)")
     p.set_defaults(func=run)
 
 
@@ -165,12 +167,14 @@ def run(args) -> int:
         f", each the device x{args.scale_force:g} in force" if args.scale_force != 1.0 else "")
     progress(f"dampers: {dampers}; forces per damper")
     try:
-        cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
-                          per_story=args.dampers_per_story, scale=args.scale_force)
+        with timing.stage("frame analyses"):
+            cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
+                              per_story=args.dampers_per_story, scale=args.scale_force)
         settings = {"dampers_per_story": args.dampers_per_story, "scale_force": args.scale_force,
                     "energy_kept": motion.source.get("energy_kept", 1.0)}
-        summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures,
-                                      settings=settings, log=log.name)
+        with timing.stage("outputs, figures"):
+            summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures,
+                                          settings=settings, log=log.name)
     finally:
         os.unlink(log.name)
     print(format_frame_table(cases, summary["series"], summary["verdict"]))

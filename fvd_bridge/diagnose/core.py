@@ -20,14 +20,15 @@ in turn."""
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..catalog import catalog as default_catalog
+from .. import timing
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..records.device import as_device
-from ..fit.de import DESettings
+from ..fit.local import CheckedSettings
 from . import where as where_mod
 from .floor import input_noise_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
@@ -47,10 +48,14 @@ DIAGNOSE_POP, DIAGNOSE_GENS, DIAGNOSE_POLISH = 8, 120, 1000
 
 
 def diagnose_settings(pop: int | None = None, gens: int | None = None, polish_evals: int | None = None):
-    """DE settings for diagnose (None keeps the diagnose default)."""
+    """Settings of diagnose's fits, the default optimizer's (local first,
+    then its DE check with population ``pop`` per parameter and at most
+    ``gens`` generations; ``polish_evals``: Nelder-Mead evaluations when a
+    candidate lowers the base).  None keeps the diagnose default."""
     settings_for(DEFAULT_OPTIMIZER, pop, gens)  # validates
-    return DESettings(popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
-                      polish_evals=polish_evals or DIAGNOSE_POLISH)
+    base = CheckedSettings()
+    return CheckedSettings(base.local, replace(base.check, popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
+                                               polish_evals=polish_evals or DIAGNOSE_POLISH))
 
 
 @dataclass
@@ -169,14 +174,16 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
         model = catalog.model(model)
     say = progress or (lambda message: None)
     if base_fit is None:  # as calibrate's first run
-        base_fit = fit_model(model, record, bounds="auto", optimizer="de", seed=[seed, 0, 0, 0],
-                             settings=settings_for(DEFAULT_OPTIMIZER))
+        with timing.stage("  base fit"):
+            base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],
+                                 settings=settings_for(DEFAULT_OPTIMIZER))
         history = [("fitted as calibrate", float(base_fit.of))]
         say(f"fitted {model.spec}: OF {base_fit.of:.5g} ({base_fit.wall_s:.1f} s)")
     else:
         history = [("given", float(base_fit.of))]
-        base_fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings,
-                             start=base_fit.params)
+        with timing.stage("  base fit"):
+            base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
+                                 start=base_fit.params)
         if base_fit.of < history[0][1] * (1.0 - BASE_TOL):
             history.append(("converged from the given fit", float(base_fit.of)))
     found: list = []
@@ -191,7 +198,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             of_off, start = lower_base(found, model)
             if start is None or not of_off < base_fit.of * (1.0 - BASE_TOL):
                 break
-            params, of = polish_model(model, record, start, max_evals=settings.polish_evals)
+            params, of = polish_model(model, record, start, max_evals=settings.check.polish_evals)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
             base_fit.params, base_fit.of = params, of
             history.append(("lowered by a candidate's refit", float(of)))
@@ -201,7 +208,8 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     k_focus = int(np.argmax(test_of))
     focus = device.tests[k_focus]
     F_model = model.force(focus, base_fit.params[None, :])[0]
-    noises = [input_noise_floor(model, base_fit.params, t, seed) for t in device.tests]
+    with timing.stage("  input-noise floor"):
+        noises = [input_noise_floor(model, base_fit.params, t, seed) for t in device.tests]
     noise = dict(noises[k_focus])
     noise["floor"] = float(np.dot(device.weights, [n["floor"] for n in noises]))
     noise["force_floor"] = float(np.dot(device.weights, [n["force_floor"] for n in noises]))
@@ -214,7 +222,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
         parent = (base_fit.parent[0], float(base_fit.parent[1]))
     elif parent is True and model.effects:  # fitted as calibrate fits it: the best base available
         parent_model = model.without_effect(model.effects[-1].name)
-        pfit = fit_model(parent_model, record, bounds="auto", optimizer="de", seed=[seed, 0, 0, 0],
+        pfit = fit_model(parent_model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],
                          settings=settings_for(DEFAULT_OPTIMIZER))
         parent = (parent_model.spec, float(pfit.of))
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")

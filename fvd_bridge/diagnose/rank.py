@@ -41,7 +41,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..fit import evaluate_params, fit_model
+from .. import timing
+from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model
 from ..fit.nested import nested_start
 from ..records.device import as_device
 from . import sizes
@@ -164,8 +165,9 @@ def arrangements(model, effects: dict) -> list[tuple]:
 
 def _refit(model, record, start, base_fit, seed, settings, name, replaces, scales, progress):
     t0 = time.perf_counter()
-    fit = fit_model(model, record, bounds="auto", optimizer="de", seed=seed, settings=settings, start=start,
-                    overrides=base_fit.widened, widen=False)  # the base's bounds, as the base widened them
+    with timing.stage(f"  refit {'~' if replaces else '+'}{name}"):
+        fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
+                        start=start, overrides=base_fit.widened, widen=False)  # the base's bounds, as it widened them
     cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0, replaces)
     effect = model.effects[-1]
     cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, effect, scales))
@@ -251,8 +253,9 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
         if ok and not c.size.plausible:
             ok, reason = False, f"implausible size: {c.size.why}"
         if ok:
-            folds = folds or BaseFolds(base_model, base_fit.params, record)
-            c.held_out = held_out(folds, c.model, c.fit.params, c.improvement)
+            with timing.stage("  held-out checks"):
+                folds = folds or BaseFolds(base_model, base_fit.params, record)
+                c.held_out = held_out(folds, c.model, c.fit.params, c.improvement)
             if not c.held_out["passes"]:
                 unit = "tests" if len(tests) > 1 else "cycles"
                 ok, reason = False, (f"no gain on held-out {unit} (" +

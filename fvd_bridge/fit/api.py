@@ -10,20 +10,29 @@ from ..errors import InputError
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
+from .local import CheckedSettings, LocalSettings, run_checked, run_local
 from .layout import Layout
 from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, nested_start, wider_bounds
 from .objective import objective
 from .result import FitResult
 from .space import Space
 
-OPTIMIZERS = ("de", "ga", "ga+polish")
-DEFAULT_OPTIMIZER = "de"
+OPTIMIZERS = ("local+de", "de", "ga", "ga+polish", "local")
+DEFAULT_OPTIMIZER = "local+de"
 
 
 def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None, stall: int | None = None):
     """Optimizer settings with CLI/YAML overrides (None keeps the default)."""
     if optimizer not in OPTIMIZERS:
         raise InputError(f"--optimizer '{optimizer}': expected one of {', '.join(OPTIMIZERS)}")
+    if optimizer == "local":
+        base = LocalSettings()
+        return LocalSettings(samples=pop or base.samples, starts=gens or base.starts)
+    if optimizer == "local+de":
+        base = CheckedSettings()
+        check = base.check if pop is None and gens is None else DESettings(
+            popsize=pop or base.check.popsize, gens=gens or base.check.gens, polish=False, stall=base.check.stall)
+        return CheckedSettings(base.local, check)
     if optimizer.startswith("ga"):
         base = GASettings()
         return GASettings(pop=pop or base.pop, gens=gens or base.gens, stall=stall or base.stall)
@@ -109,16 +118,25 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
     above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
     round: the optimum moves on from where it stopped)."""
-    mode, b, space, evaluate = _problem(model, device, layout, bounds, overrides, mask, substeps)
+    if optimizer == "local+de" and model.law.global_search:  # the law asks for DE
+        optimizer, settings = "de", DESettings(popsize=settings.check.popsize, gens=settings.check.gens)
+    mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)
-    if local and x0 is not None:
+    if local and x0 is not None and optimizer.startswith("local"):
+        x, of, history, evals = run_local(evaluate, residuals, space.n, rng, LocalSettings(samples=1, starts=1),
+                                          None, x0)
+    elif local and x0 is not None:
         count = [0]
         x, of = polish(evaluate, x0, float(evaluate(x0[None, :])[0]), WIDEN_EVALS, count)
         history, evals = [of], count[0] + 1
     elif optimizer == "de":
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
+    elif optimizer == "local":
+        x, of, history, evals = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0)
+    elif optimizer == "local+de":
+        x, of, history, evals = run_checked(evaluate, residuals, space.n, rng, settings, on_generation, x0)
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
@@ -154,7 +172,43 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
         of = joint_objective(model, device, layout, space.to_params(X), mask, substeps)
         return np.where(np.isfinite(of), of, np.inf)
 
-    return mode, b, space, evaluate
+    weights = residual_weights(device, mask)
+
+    def residuals(X):
+        return joint_residuals(model, device, layout, space.to_params(X), mask, substeps, weights)
+
+    return mode, b, space, evaluate, residuals
+
+
+def _residual_weights(test, mask=None) -> np.ndarray:
+    """c with sum |c (F_model - F)| = eq. 18 of one test (``objective``'s
+    trapezoidal weights over sigma_pm and the duration)."""
+    t, F = test.t, test.F
+    if mask is not None:
+        w = np.gradient(t) * mask
+        return w / (np.std(F[mask]) * w.sum())
+    w = np.zeros_like(t)
+    w[:-1] += 0.5 * np.diff(t)
+    w[1:] += 0.5 * np.diff(t)
+    return w / (np.std(F) * (t[-1] - t[0]))
+
+
+def residual_weights(device, mask=None) -> list:
+    """Per test, w_k c (``_residual_weights``; None for a test of weight 0)."""
+    masks = mask if isinstance(mask, (list, tuple)) else [mask] * len(device.tests)
+    return [w * _residual_weights(test, m) if w != 0.0 else None
+            for test, w, m in zip(device.tests, device.weights, masks)]
+
+
+def joint_residuals(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1,
+                    weights: list | None = None) -> np.ndarray:
+    """The weighted residuals (pop, sum n_t) of every test, whose absolute sum
+    is ``joint_objective``: w_k c (F_model - F) test after test
+    (``weights``: ``residual_weights(device, mask)``, computed once)."""
+    weights = residual_weights(device, mask) if weights is None else weights
+    parts = [c * (model.force(test, layout.for_test(P, k), substeps) - test.F)
+             for k, (test, c) in enumerate(zip(device.tests, weights)) if c is not None]
+    return np.concatenate(parts, axis=-1)
 
 
 def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1) -> np.ndarray:
@@ -177,7 +231,7 @@ def polish_model(model, record, start: np.ndarray, mask=None, max_evals: int = 1
     worse than ``start``'s."""
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
-    _, b, space, evaluate = _problem(model, device, layout, bounds, mask=mask)
+    _, b, space, evaluate, _ = _problem(model, device, layout, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     of0 = float(evaluate(space.to_unit(start)[None, :])[0])
     x, of = polish(evaluate, space.to_unit(start), of0, max_evals, [0])

@@ -13,6 +13,10 @@ import numpy as np
 from scipy.optimize import differential_evolution, minimize
 
 
+#: with ``stall``: a generation's best that improves by less than this share does not count
+STALL_GAIN = 1e-9
+
+
 @dataclass(frozen=True)
 class DESettings:
     """popsize is per parameter (scipy's convention); gens caps generations."""
@@ -22,6 +26,7 @@ class DESettings:
     tol: float = 1e-6
     polish: bool = True
     polish_evals: int = 4000
+    stall: int | None = None  # stop after this many generations without a better best
 
 
 def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESettings(), on_generation=None,
@@ -42,6 +47,9 @@ def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESetting
         history.append(float(intermediate_result.fun))
         if on_generation:
             on_generation(len(history), history[-1])
+        if s.stall and len(history) > s.stall:
+            return not history[-1] < history[-1 - s.stall] * (1.0 - STALL_GAIN)
+        return False
 
     res = differential_evolution(
         batch, [(0.0, 1.0)] * n, popsize=s.popsize, maxiter=s.gens, tol=s.tol, atol=0.0,
@@ -55,13 +63,14 @@ def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESetting
     return x, fx, history, count[0]
 
 
-def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, count: list):
-    """Nelder-Mead from x0 inside the unit cube (points outside are clipped)."""
+def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, count: list, step: float = 0.02):
+    """Nelder-Mead from x0 inside the unit cube (points outside are clipped),
+    its first simplex ``step`` wide."""
     def single(x):
         count[0] += 1
         return float(evaluate(np.clip(x, 0.0, 1.0)[None, :])[0])
 
-    simplex = [x0] + [np.clip(x0 + np.eye(x0.size)[i] * (0.02 if x0[i] < 0.5 else -0.02), 0, 1)
+    simplex = [x0] + [np.clip(x0 + np.eye(x0.size)[i] * (step if x0[i] < 0.5 else -step), 0, 1)
                       for i in range(x0.size)]
     res = minimize(single, x0, method="Nelder-Mead",
                    options={"maxfev": max_evals, "xatol": 1e-9, "fatol": 1e-12,

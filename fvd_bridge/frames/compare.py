@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import timing
 from ..errors import InputError
 from ..records.cycles import reversals
 from ..export.opensees import opensees_export
@@ -151,7 +152,8 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
         tag = DAMPER_TAGS_FROM
         if commands is not None:
             commands, tag = scaled(commands, tag, per_story * scale)
-        case.result = run_frame(building, motion, commands, tag, dt_analysis=dt_analysis)
+        with timing.stage(f"  {case.label}"):
+            case.result = run_frame(building, motion, commands, tag, dt_analysis=dt_analysis)
         case.exceeded = _exceeded(case, cal)
         if progress:
             v = case.values()

@@ -96,7 +96,9 @@ class Law:
     spring or a contact gap (``effects/connection.py``); ``reference``: a
     realistic parameter set (the golden files, benchmarks); ``opensees``:
     its OpenSees form (None: none); ``fmu``: the FMU's C code carries it;
-    ``paper``: one of the paper's nine laws (its protocol, ``demo``)."""
+    ``paper``: one of the paper's nine laws (its protocol, ``demo``);
+    ``global_search``: its objective has basins that a local solve from a
+    sample does not leave, so the default optimizer searches it globally (DE)."""
 
     number: int
     name: str
@@ -115,6 +117,7 @@ class Law:
     opensees: OpenSeesForm | None = None
     fmu: bool = True
     paper: bool = True
+    global_search: bool = False
 
     @property
     def key(self) -> str:

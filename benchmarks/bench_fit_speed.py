@@ -1,0 +1,98 @@
+"""One fit's wall time against a least-squares peer on the same record.
+
+A lab-like record (t,d,F written and read back, velocity derived by the
+tool) of a law-2 device with a 150 kN/mm oil column, the paper protocol
+(40 mm at 500 mm/s, dt 0.002 s), 1 kN force and 0.005 mm displacement
+noise.  For laws 2 and 9, best of 3 in one process:
+
+- fvd_bridge's default fit (DE + Nelder-Mead polish) and ``--optimizer
+  local`` (Sobol starts, soft-L1 least squares, a short polish);
+- the peer: scipy ``least_squares`` (the solver lmfit's ``least_squares``
+  method calls) on the plain residuals F_model - F from a data-driven start
+  (law 2: a log-log regression of |F| on |v| over the fastest half of the
+  samples; law 9: C from the force's slope against v at speed, beta from
+  the force at the velocity reversals, alpha 1/(0.1 x stroke)).
+
+Prints OF (eq. 18) beside time, and the ratios to the peer.
+
+    python benchmarks/bench_fit_speed.py [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+import time
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from fvd_bridge.catalog import parse_model
+from fvd_bridge.fit import fit_model, objective
+from fvd_bridge.records import read_record
+from fvd_bridge.records.writers import write_csv
+from fvd_bridge.rig import Device, Noise, paper, simulate
+
+
+def lab_record():
+    rec = simulate(Device(C=45.0, alpha=0.3, Ks=150.0, name="sn150"), paper(), Noise(1.0, 0.005), seed=0)
+    folder = tempfile.mkdtemp(prefix="fvd_bench_")
+    path = os.path.join(folder, "sn150.csv")
+    write_csv(rec, path)
+    return read_record(path)
+
+
+def start_of(law: str, rec) -> np.ndarray:
+    """The peer's data-driven start (module docstring)."""
+    v, F = np.abs(rec.v), np.abs(rec.F)
+    fast = v > np.median(v)
+    if law == "2":
+        slope, icept = np.polyfit(np.log(v[fast]), np.log(np.maximum(F[fast], 1e-6)), 1)
+        return np.array([np.exp(icept), slope])
+    C = np.polyfit(rec.v[fast], rec.F[fast], 1)[0]
+    slow = v < 0.05 * v.max()
+    beta = float(np.median(F[slow])) if slow.any() else 0.5 * F.max()
+    return np.array([C, 1.0 / (0.1 * np.ptp(rec.d) / 2), beta])
+
+
+def peer_fit(model, rec, x0, bounds):
+    def residuals(p):
+        return model.force(rec, p[None, :])[0] - rec.F
+    res = least_squares(residuals, np.clip(x0, bounds[:, 0], bounds[:, 1]), bounds=(bounds[:, 0], bounds[:, 1]),
+                        method="trf", x_scale="jac")
+    return res.x, float(objective(rec.F, model.force(rec, res.x[None, :])[0], rec.t))
+
+
+def best_of(repeats, run):
+    walls, out = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = run()
+        walls.append(time.perf_counter() - t0)
+    return min(walls), out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args()
+    rec = lab_record()
+    print(f"record: {rec.name}, {rec.n} samples (law 2 + 150 kN/mm oil column, lab-like); best of {args.repeats}\n")
+    print(f"{'law':>4} {'fit':>32} {'wall [ms]':>10} {'OF':>9} {'x peer time':>12}")
+    for law in ("2", "9"):
+        model = parse_model(law)
+        bounds = np.array(model.bounds("auto", rec.scales()), dtype=float)
+        model.force(rec, bounds.mean(axis=1)[None, :])  # compile first
+        peer_wall, (_, peer_of) = best_of(args.repeats, lambda: peer_fit(model, rec, start_of(law, rec), bounds))
+        rows = [("scipy least_squares (peer)", peer_wall, peer_of)]
+        for opt in ("de", "local"):
+            wall, fit = best_of(args.repeats, lambda: fit_model(model, rec, optimizer=opt, seed=0))
+            rows.append((f"fvd_bridge {opt}{' (default)' if opt == 'de' else ''}", wall, fit.of))
+        for name, wall, of in rows:
+            print(f"{law:>4} {name:>32} {1e3 * wall:10.1f} {of:9.5f} {wall / peer_wall:12.1f}")
+        print()
+
+
+if __name__ == "__main__":
+    main()

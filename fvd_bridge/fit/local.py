@@ -1,0 +1,139 @@
+"""Local first: a fit that starts where the answer is (``--optimizer local``).
+
+1. A Sobol sample of the unit cube (``samples`` points, one batch of the
+   vectorised kernels; the caller's start among them) gives the ``starts``
+   best points that lie apart from each other.
+2. From each, trust-region least squares on the weighted residuals whose
+   absolute sum is eq. 18 (scipy ``least_squares``, soft-L1 loss, Jacobian
+   by forward differences: one batch of n points per iteration), its loss
+   scale lowered in SCALE_SHARES steps, each solve starting where the last
+   ended: the last is eq. 18's L1 but for residuals below 1/2000 of the
+   start's median, so it ends at eq. 18's optimum (to 6 digits on the demo
+   device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).
+3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
+
+The best end is kept, never worse than the caller's start.  Several starts
+ending at different OFs show an objective with several basins; DE (the
+default, ``fit.de``) searches those globally.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.stats import qmc
+
+from .de import DESettings, polish, run_de
+
+
+@dataclass(frozen=True)
+class LocalSettings:
+    """samples: Sobol points (a power of 2); starts: local solves from the
+    best distinct ones; max_nfev: least-squares iterations each;
+    polish_evals: Nelder-Mead evaluations of the final polish."""
+
+    samples: int = 32
+    starts: int = 2
+    max_nfev: int = 40
+    polish_evals: int = 0
+
+
+#: two starts closer than this (unit-cube distance) are one
+DISTINCT = 0.15
+#: the soft-L1 loss's scale, as shares of the start's median |residual|:
+#: residuals above it count as in L1 (the last solves are L1 but for the noise's smallest)
+SCALE_SHARES = (0.05, 0.005, 0.0005)
+#: forward-difference step in the unit cube
+FD_STEP = 1e-6
+
+
+def _starts(X: np.ndarray, of: np.ndarray, k: int) -> list[int]:
+    """Indices of the k best finite points, each DISTINCT from the ones before."""
+    chosen: list[int] = []
+    for i in np.argsort(of):
+        if not np.isfinite(of[i]):
+            break
+        if all(np.linalg.norm(X[i] - X[j]) > DISTINCT for j in chosen):
+            chosen.append(int(i))
+        if len(chosen) == k:
+            break
+    return chosen
+
+
+def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSettings = LocalSettings(),
+              on_generation=None, x0: np.ndarray | None = None):
+    """Minimise eq. 18 over [0, 1]^n: ``evaluate(X) -> OF`` (pop,), and
+    ``residuals(X) -> R`` (pop, m) with sum |R| = OF.  Returns (x, OF,
+    history, evaluations) as ``run_de`` does; the result is never worse
+    than ``x0``."""
+    count = [0]
+    sampler = qmc.Sobol(n, scramble=True, seed=rng)
+    X = sampler.random(s.samples)
+    if x0 is not None:
+        X[0] = np.clip(x0, 0.0, 1.0)
+    of = evaluate(X)
+    count[0] += len(X)
+    history = [float(np.min(of))]
+
+    last = {}
+
+    def fun(x):
+        count[0] += 1
+        r = residuals(np.clip(x, 0.0, 1.0)[None, :])[0]
+        last["x"], last["r"] = np.array(x), np.where(np.isfinite(r), r, 1e3)
+        return last["r"]
+
+    def jac(x):  # forward differences, one batch; the solver has just evaluated fun(x)
+        h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
+        r0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else fun(x)
+        R = residuals(x[None, :] + np.diag(h))
+        count[0] += n
+        return np.where(np.isfinite(R), (R - r0) / h[:, None], 0.0).T
+
+    best_x, best_of = X[int(np.argmin(of))], float(np.min(of))
+    for i in _starts(X, of, s.starts):
+        x = X[i]
+        scale = max(float(np.median(np.abs(fun(x)))), 1e-30)
+        for share in SCALE_SHARES:  # soft-L1 towards L1: each solve starts where the last ended
+            res = least_squares(fun, x, jac=jac, bounds=(0.0, 1.0), loss="soft_l1", f_scale=share * scale,
+                                x_scale="jac", max_nfev=s.max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10)
+            x = np.clip(res.x, 0.0, 1.0)
+        f = float(evaluate(x[None, :])[0])
+        count[0] += 1
+        history.append(f)
+        if on_generation:
+            on_generation(len(history), min(best_of, f))
+        if f < best_of:
+            best_x, best_of = x, f
+    if s.polish_evals:
+        best_x, best_of = polish(evaluate, best_x, best_of, s.polish_evals, count, step=0.002)
+        history.append(best_of)
+    return best_x, best_of, history, count[0]
+
+
+@dataclass(frozen=True)
+class CheckedSettings:
+    """``local``: the local search; ``check``: the DE that searches the whole
+    cube with the local optimum in its first population and stops after
+    ``check.stall`` generations without a better point."""
+
+    local: LocalSettings = LocalSettings()
+    check: DESettings = DESettings(polish=False, stall=10)
+
+
+def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: CheckedSettings = CheckedSettings(),
+                on_generation=None, x0: np.ndarray | None = None):
+    """Local first, global check (the default optimizer): ``run_local``, then
+    DE seeded with its optimum and stopped when nothing better appears; a
+    better point found there is solved locally again.  Returns (x, OF,
+    history, evaluations) as ``run_de`` does."""
+    x, f, history, evals = run_local(evaluate, residuals, n, rng, s.local, on_generation, x0)
+    xd, fd, more, de_evals = run_de(evaluate, n, rng, s.check, on_generation, x)
+    history, evals = history + more, evals + de_evals
+    if fd < f:
+        x, f, more, local_evals = run_local(evaluate, residuals, n, rng, LocalSettings(samples=1, starts=1), None,
+                                            xd)
+        history, evals = history + more, evals + local_evals
+    return x, f, history, evals
