@@ -32,9 +32,9 @@ LAWS = ("1", "2", "7", "9")
 def maxwell_calibration(rec, model, seed, quick: bool):
     """Law 7 with beta held at 1 (a linear spring behind the power-law dashpot)."""
     from fvd_bridge.calibration import Calibration
-    from fvd_bridge.fit import fit_model, objective, settings_for
+    from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, objective, settings_for
 
-    settings = settings_for("de", 8 if quick else None, 60 if quick else None)
+    settings = settings_for(DEFAULT_OPTIMIZER, 8 if quick else None, 60 if quick else None)
     fit = fit_model(model, rec, seed=seed, settings=settings, overrides={"beta": (1.0, 1.0 + 1e-12)})
     fit.params[3] = 1.0
     fit.of = float(objective(rec.F, model.force(rec, fit.params[None, :])[0], rec.t))

@@ -99,6 +99,12 @@ class Model:
             raise InputError(f"model '{spec_text or f'{self.spec}+{effect.name}'}': {why}")
         return Model(self.law, self.effects + (effect,))
 
+    @property
+    def global_search(self) -> bool:
+        """Its law or an effect declares basins that a local solve does not
+        leave: the default optimizer searches it with DE."""
+        return self.law.global_search or any(e.global_search for e in self.effects)
+
     def without_effect(self, effect_name: str) -> "Model":
         """This model without the named effect (the nested model)."""
         if not self.has(effect_name):

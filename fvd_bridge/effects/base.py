@@ -93,7 +93,9 @@ class Effect:
     says why); ``fmu``: the FMU's C code carries it; ``arrangement_of``: the
     effect it places elsewhere in the damper (oil_column: series_stiffness's
     spring, with the seal and accumulator beside it instead of behind it),
-    so that diagnose ranks the two arrangements against each other.
+    so that diagnose ranks the two arrangements against each other;
+    ``global_search``: a model with it has basins a local solve does not
+    leave (the gap's dead zone), so the default optimizer searches it with DE.
     """
 
     name: str
@@ -117,6 +119,7 @@ class Effect:
     no_opensees: str = ""
     fmu: bool = False
     arrangement_of: str = ""
+    global_search: bool = False
 
     @property
     def names(self) -> list[str]:

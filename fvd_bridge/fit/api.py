@@ -77,6 +77,9 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
     settings = settings or settings_for(optimizer)
+    if type(settings) is not type(settings_for(optimizer)):
+        raise InputError(f"optimizer {optimizer}: settings {type(settings).__name__} belong to another optimizer "
+                         f"(settings_for('{optimizer}', pop, gens) gives its own)")
     overrides = dict(overrides or {})
     t0, evals, widened, parent_of = time.perf_counter(), 0, {}, []
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
@@ -118,8 +121,9 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
     above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
     round: the optimum moves on from where it stopped)."""
-    if optimizer == "local+de" and model.law.global_search:  # the law asks for DE
-        optimizer, settings = "de", DESettings(popsize=settings.check.popsize, gens=settings.check.gens)
+    if optimizer == "local+de" and model.global_search:  # the law or an effect asks for DE
+        optimizer, settings = "de", DESettings(popsize=settings.check.popsize, gens=settings.check.gens,
+                                               polish_evals=settings.check.polish_evals)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
