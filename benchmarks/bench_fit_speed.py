@@ -5,8 +5,9 @@ tool) of a law-2 device with a 150 kN/mm oil column, the paper protocol
 (40 mm at 500 mm/s, dt 0.002 s), 1 kN force and 0.005 mm displacement
 noise.  For laws 2 and 9, best of 3 in one process:
 
-- fvd_bridge's default fit (DE + Nelder-Mead polish) and ``--optimizer
-  local`` (Sobol starts, soft-L1 least squares, a short polish);
+- fvd_bridge's default fit ``local+de`` (local first, then a DE check),
+  ``local`` (the local search alone) and ``de`` (DE and its Nelder-Mead
+  polish, the default up to version 0.2.0);
 - the peer: scipy ``least_squares`` (the solver lmfit's ``least_squares``
   method calls) on the plain residuals F_model - F from a data-driven start
   (law 2: a log-log regression of |F| on |v| over the fastest half of the
@@ -29,7 +30,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from fvd_bridge.catalog import parse_model
-from fvd_bridge.fit import fit_model, objective
+from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, objective
 from fvd_bridge.records import read_record
 from fvd_bridge.records.writers import write_csv
 from fvd_bridge.rig import Device, Noise, paper, simulate
@@ -86,9 +87,9 @@ def main() -> None:
         model.force(rec, bounds.mean(axis=1)[None, :])  # compile first
         peer_wall, (_, peer_of) = best_of(args.repeats, lambda: peer_fit(model, rec, start_of(law, rec), bounds))
         rows = [("scipy least_squares (peer)", peer_wall, peer_of)]
-        for opt in ("de", "local"):
+        for opt in ("de", "local", DEFAULT_OPTIMIZER):
             wall, fit = best_of(args.repeats, lambda: fit_model(model, rec, optimizer=opt, seed=0))
-            rows.append((f"fvd_bridge {opt}{' (default)' if opt == 'de' else ''}", wall, fit.of))
+            rows.append((f"fvd_bridge {opt}{' (default)' if opt == DEFAULT_OPTIMIZER else ''}", wall, fit.of))
         for name, wall, of in rows:
             print(f"{law:>4} {name:>32} {1e3 * wall:10.1f} {of:9.5f} {wall / peer_wall:12.1f}")
         print()

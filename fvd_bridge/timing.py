@@ -30,6 +30,7 @@ def add(name: str, seconds: float, count: int = 1) -> None:
 @contextmanager
 def stage(name: str):
     """Time the block as stage ``name``."""
+    _STAGES.setdefault(name, [0.0, 0])  # listed where it starts, before the stages inside it
     t0 = time.perf_counter()
     try:
         yield

@@ -271,3 +271,43 @@ def test_every_verb_prints_its_help(verb, capsys):
         cli.main([verb, "--help"])
     assert stop.value.code == 0
     assert f"fvd-bridge {verb}" in capsys.readouterr().out
+
+
+def test_profile_lists_each_stage_inside_the_one_it_belongs_to():
+    """timing: a stage is listed where it starts (an outer stage before the
+    stages inside it), its seconds and runs add up, and the report's shares
+    are of the total given."""
+    import time as clock
+
+    from fvd_bridge import timing
+
+    timing.reset()
+    with timing.stage("outer"):
+        for _ in range(2):
+            with timing.stage("  inner"):
+                clock.sleep(0.01)
+    timing.add("  booked", 0.5, 3)
+    st = timing.stages()
+    assert list(st) == ["outer", "  inner", "  booked"]
+    assert st["  inner"][1] == 2 and 0.02 <= st["  inner"][0] <= st["outer"][0]
+    assert st["  booked"] == (0.5, 3)
+    assert "50.0%" in timing.report(1.0) and "total" in timing.report(1.0)
+    timing.reset()
+    assert timing.stages() == {}
+
+
+def test_calibrate_profile_shows_where_the_time_went(tmp_path, capsys):
+    """calibrate --profile: reading, the fits with each model's own time,
+    the intervals and the outputs, after the results."""
+    s = sine(n_cycles=4.0, dt=0.005)
+    rng = np.random.default_rng(0)
+    path = write(tmp_path, "dev.csv", csv_text("t,d,F", [s["t"], s["d"] + 0.005 * rng.standard_normal(s["t"].size),
+                                                        s["F"] + 0.05 * rng.standard_normal(s["t"].size)]))
+    rc = cli.main(["calibrate", str(path), "--laws", "1,2", "--runs", "2", "--intervals", "0", "--jobs", "1",
+                   "--out", str(tmp_path / "out"), "--quiet", "--no-figures", "--profile"])
+    assert rc == 0
+    err = capsys.readouterr().err
+    profile = err[err.index("profile ("):]
+    for stage in ("read records, derive velocity", "fits", "law 1 (summed over workers)",
+                  "law 2 (summed over workers)", "intervals", "outputs, figures", "total"):
+        assert stage in profile, profile

@@ -120,7 +120,7 @@ class CheckedSettings:
     ``check.stall`` generations without a better point."""
 
     local: LocalSettings = LocalSettings()
-    check: DESettings = DESettings(polish=False, stall=10)
+    check: DESettings = DESettings(polish=False, stall=20)
 
 
 def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: CheckedSettings = CheckedSettings(),
