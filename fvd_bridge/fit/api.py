@@ -129,8 +129,7 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)
     if local and x0 is not None and optimizer.startswith("local"):
-        x, of, history, evals = run_local(evaluate, residuals, space.n, rng, LocalSettings(samples=1, starts=1),
-                                          None, x0)
+        x, of, history, evals = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0)
     elif local and x0 is not None:
         count = [0]
         x, of = polish(evaluate, x0, float(evaluate(x0[None, :])[0]), WIDEN_EVALS, count)
@@ -230,16 +229,26 @@ def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: i
 
 def polish_model(model, record, start: np.ndarray, mask=None, max_evals: int = 1000,
                  bounds: str = "auto", per_test=()) -> tuple[np.ndarray, float]:
-    """Nelder-Mead from ``start`` (parameters) inside the model's bounds,
-    minimising the OF (of the ``mask``ed samples): (parameters, OF), never
-    worse than ``start``'s."""
+    """From ``start`` (parameters) inside the model's bounds, minimise the OF
+    (of the ``mask``ed samples): (parameters, OF), never worse than
+    ``start``'s.  The local search's least squares (``fit.local``; a model
+    that declares ``global_search``: Nelder-Mead, at most ``max_evals``
+    evaluations)."""
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
-    _, b, space, evaluate, _ = _problem(model, device, layout, bounds, mask=mask)
+    _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
-    of0 = float(evaluate(space.to_unit(start)[None, :])[0])
-    x, of = polish(evaluate, space.to_unit(start), of0, max_evals, [0])
+    x0 = space.to_unit(start)
+    of0 = float(evaluate(x0[None, :])[0])
+    if model.global_search:
+        x, of = polish(evaluate, x0, of0, max_evals, [0])
+    else:
+        x, of, _, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None, x0)
     return (start, of0) if of0 <= of else (space.to_params(x), float(of))
+
+
+#: the local search from a given start alone (no sample around it)
+FROM_START = LocalSettings(samples=1, starts=1)
 
 
 def evaluate_params(model, record, params, mask=None, per_test=()) -> float:

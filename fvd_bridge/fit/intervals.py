@@ -15,7 +15,8 @@ as the lab would have measured it had the calibrated model been the truth:
 
 (sigma_d, sigma_F the record's own noise estimates, e white Gaussian; a
 measured velocity column is kept, with force noise only), and the fit is
-repeated from theta on each replicate (Nelder-Mead on eq. 18).  With
+repeated from theta on each replicate (``polish_model``: the local least
+squares on eq. 18; Nelder-Mead for a model with a gap).  With
 theta_b the replicates' estimates:
 
     bias = mean(theta_b) - theta,  stderr = sqrt(std(theta_b)^2 + (BIAS_SHARE bias)^2),
@@ -51,7 +52,7 @@ from .layout import Layout
 #: bootstrap replicates of a calibration
 REPLICATES = 20
 #: Nelder-Mead evaluations of each replicate's fit
-REPLICATE_EVALS = 300
+REPLICATE_EVALS = 300  # Nelder-Mead evaluations, where it runs
 #: share of the bias counted as its own uncertainty: it scales with the
 #: squared noise estimates, which the record gives to about 5-10%
 BIAS_SHARE = 0.25

@@ -133,7 +133,7 @@ def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: Checke
     xd, fd, more, de_evals = run_de(evaluate, n, rng, s.check, on_generation, x)
     history, evals = history + more, evals + de_evals
     if fd < f:
-        x, f, more, local_evals = run_local(evaluate, residuals, n, rng, LocalSettings(samples=1, starts=1), None,
-                                            xd)
+        x, f, more, local_evals = run_local(evaluate, residuals, n, rng, LocalSettings(samples=1, starts=1),
+                                            None, xd)
         history, evals = history + more, evals + local_evals
     return x, f, history, evals
