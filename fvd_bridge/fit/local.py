@@ -120,7 +120,7 @@ class CheckedSettings:
     ``check.stall`` generations without a better point."""
 
     local: LocalSettings = LocalSettings()
-    check: DESettings = DESettings(polish=False, stall=20)
+    check: DESettings = DESettings(popsize=8, polish=False, stall=20)
 
 
 def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: CheckedSettings = CheckedSettings(),
