@@ -12,9 +12,11 @@
    device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
-The best end is kept, never worse than the caller's start.  Several starts
-ending at different OFs show an objective with several basins; DE (the
-default, ``fit.de``) searches those globally.
+The best end is kept, never worse than the caller's start.  ``run_checked``
+(the default optimizer, ``local+de``) adds the global check: DE
+(``fit.de``) with the local optimum in its first population, stopped when
+nothing better appears; a model whose law or effect declares
+``global_search`` (law 7, the gap) gets DE alone (``fit.api``).
 """
 
 from __future__ import annotations
