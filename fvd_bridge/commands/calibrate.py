@@ -55,8 +55,9 @@ def add_campaign_options(p):
                         "law/spec, e.g. --bound 9:alpha=0,50 (repeatable)")
     p.add_argument("--seed", type=int, default=0, help="base seed; the same seed gives the same results")
     p.add_argument("--optimizer", default=DEFAULT_OPTIMIZER, choices=OPTIMIZERS,
-                   help="'de' (default: differential evolution + polish, reaches the noise floor), "
-                        "'ga' (the paper's GA, Table 3), 'ga+polish'")
+                   help="'local+de' (default: a local least-squares solve on eq. 18, then a DE check), 'de' "
+                        "(differential evolution + polish), 'local' (the local solve alone), 'ga' (the "
+                        "paper's GA, Table 3), 'ga+polish'")
     p.add_argument("--pop", type=int, help="population (GA: individuals, default 200; DE and local+de's DE check: per parameter, 15)")
     p.add_argument("--gens", type=int, help="maximum generations (default GA 200, DE and local+de's DE check 300)")
     p.add_argument("--stall", type=int, help="GA: stop after this many generations without improvement (20)")

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import json
-from dataclasses import asdict
 import os
 import sys
+from dataclasses import asdict
 
 import shlex
 

@@ -262,14 +262,10 @@ def solving_advice(export: Export, solved: Export) -> list[str]:
     """Header lines of a script whose export ``solving_springs`` changed: the
     ViscousDamper that fvd-bridge frame runs in place of each such Viscous."""
     units = f"{export.units['F']}/{export.units['d']}"
-    def which(tag):
-        offset = getattr(tag, "offset", 0)
-        return "tag" if not offset else f"tag + {offset}"
-
-    return [f"frame analyses: fvd-bridge frame runs material {which(mine[2])} as ViscousDamper {theirs[3]:.6g} "
-            f"{theirs[4]:.6g} {theirs[5]:.6g} (a solving spring Ks [{units}] that deflects "
-            f"{100 * SOLVING_DEFLECTION:g}% of the tested stroke), starting each step with KrylovNewton"
-            for mine, theirs in zip(export.commands, solved.commands) if mine is not theirs and mine != theirs]
+    return [f"frame analyses: fvd-bridge frame runs material {'tag' if not mine[2].offset else f'tag + {mine[2].offset}'}"
+            f" as ViscousDamper {theirs[3]:.6g} {theirs[4]:.6g} {theirs[5]:.6g} (a solving spring Ks [{units}] that "
+            f"deflects {100 * SOLVING_DEFLECTION:g}% of the tested stroke), starting each step with KrylovNewton"
+            for mine, theirs in zip(export.commands, solved.commands) if mine != theirs]
 
 
 # ------------------------------------------------------------------ output

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -10,7 +11,7 @@ from ..errors import InputError
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
-from .local import CheckedSettings, LocalSettings, run_checked, run_local
+from .local import FROM_START, CheckedSettings, LocalSettings, run_checked, run_local
 from .layout import Layout
 from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, nested_start, wider_bounds
 from .objective import objective
@@ -30,9 +31,8 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
         return LocalSettings(samples=pop or base.samples, starts=gens or base.starts)
     if optimizer == "local+de":
         base = CheckedSettings()
-        check = base.check if pop is None and gens is None else DESettings(
-            popsize=pop or base.check.popsize, gens=gens or base.check.gens, polish=False, stall=base.check.stall)
-        return CheckedSettings(base.local, check)
+        return replace(base, check=replace(base.check, popsize=pop or base.check.popsize,
+                                           gens=gens or base.check.gens))
     if optimizer.startswith("ga"):
         base = GASettings()
         return GASettings(pop=pop or base.pop, gens=gens or base.gens, stall=stall or base.stall)
@@ -76,8 +76,9 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     """
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
-    settings = settings or settings_for(optimizer)
-    if type(settings) is not type(settings_for(optimizer)):
+    own = settings_for(optimizer)
+    settings = settings or own
+    if type(settings) is not type(own):
         raise InputError(f"optimizer {optimizer}: settings {type(settings).__name__} belong to another optimizer "
                          f"(settings_for('{optimizer}', pop, gens) gives its own)")
     overrides = dict(overrides or {})
@@ -122,8 +123,7 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
     round: the optimum moves on from where it stopped)."""
     if optimizer == "local+de" and model.global_search:  # the law or an effect asks for DE
-        optimizer, settings = "de", DESettings(popsize=settings.check.popsize, gens=settings.check.gens,
-                                               polish_evals=settings.check.polish_evals)
+        optimizer, settings = "de", replace(settings.check, polish=True, stall=None)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
@@ -246,9 +246,6 @@ def polish_model(model, record, start: np.ndarray, mask=None, max_evals: int = 1
         x, of, _, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None, x0)
     return (start, of0) if of0 <= of else (space.to_params(x), float(of))
 
-
-#: the local search from a given start alone (no sample around it)
-FROM_START = LocalSettings(samples=1, starts=1)
 
 
 def evaluate_params(model, record, params, mask=None, per_test=()) -> float:

@@ -51,8 +51,8 @@ from .layout import Layout
 
 #: bootstrap replicates of a calibration
 REPLICATES = 20
-#: Nelder-Mead evaluations of each replicate's fit
-REPLICATE_EVALS = 300  # Nelder-Mead evaluations, where it runs
+#: Nelder-Mead evaluations of each replicate's fit (a model that declares global_search)
+REPLICATE_EVALS = 300
 #: share of the bias counted as its own uncertainty: it scales with the
 #: squared noise estimates, which the record gives to about 5-10%
 BIAS_SHARE = 0.25

@@ -42,6 +42,8 @@ class LocalSettings:
     polish_evals: int = 0
 
 
+#: the local search from a given start alone (no sample around it)
+FROM_START = LocalSettings(samples=1, starts=1)
 #: two starts closer than this (unit-cube distance) are one
 DISTINCT = 0.15
 #: the soft-L1 loss's scale, as shares of the start's median |residual|:
@@ -81,7 +83,9 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
 
     last = {}
 
-    def fun(x):
+    def fun(x):  # each solve starts where the last ended: that point is not evaluated again
+        if "x" in last and np.array_equal(last["x"], x):
+            return last["r"]
         count[0] += 1
         r = residuals(np.clip(x, 0.0, 1.0)[None, :])[0]
         last["x"], last["r"] = np.array(x), np.where(np.isfinite(r), r, 1e3)
@@ -89,7 +93,7 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
 
     def jac(x):  # forward differences, one batch; the solver has just evaluated fun(x)
         h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
-        r0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else fun(x)
+        r0 = fun(x)
         R = residuals(x[None, :] + np.diag(h))
         count[0] += n
         return np.where(np.isfinite(R), (R - r0) / h[:, None], 0.0).T
@@ -135,7 +139,6 @@ def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: Checke
     xd, fd, more, de_evals = run_de(evaluate, n, rng, s.check, on_generation, x)
     history, evals = history + more, evals + de_evals
     if fd < f:
-        x, f, more, local_evals = run_local(evaluate, residuals, n, rng, LocalSettings(samples=1, starts=1),
-                                            None, xd)
+        x, f, more, local_evals = run_local(evaluate, residuals, n, rng, FROM_START, None, xd)
         history, evals = history + more, evals + local_evals
     return x, f, history, evals

@@ -266,9 +266,9 @@ def three_story() -> Building:
 
     Columns W14X257 (lines 1 and 4, the moment frame's ends) and W14X311
     (lines 2, 3); at the end of the simple bay (line 5) the W14X68 gravity
-    column, bent about its weak axis; beams W33X118, W30X116, W24X68 in bays 1-3, bay 4 simple.  Masses
-    per frame 478.5, 478.5, 520 t (half of 9.57e5, 9.57e5, 1.04e6 kg).
-    T1 = 1.01 s (0.99 Hz).
+    column, bent about its weak axis; beams W33X118, W30X116, W24X68 in
+    bays 1-3, bay 4 simple.  Masses per frame 478.5, 478.5, 520 t (half of
+    9.57e5, 9.57e5, 1.04e6 kg).  T1 = 1.01 s (0.99 Hz).
     """
     c1, c2 = _strong("W14X257"), _strong("W14X311")
     story = (c1, c2, c2, c1, W_SHAPES["W14X68"].weak)

@@ -9,7 +9,9 @@ Model (2D, 3 DOF per node), from a ``buildings.Building``:
 - tags: the frame's own materials and sections use tags 1..999 (the series
   brace material is 999); material tags >= 1000 are left to the dampers, whose
   commands the caller supplies with its own ``damper_tag``.  Nothing is shifted.
-- one node per joint (tag 100 level + line + 1), extra nodes at column splices;
+- one node per joint (tag 100 level + line + 1), extra nodes at column splices
+  and, where a beam frames in with a simple connection (``pinned_lines``), a
+  node of its own joined to the joint by a stiff zeroLength in x and y;
   base fixed or pinned; levels 1..ground_level held horizontally; the nodes of
   each above-grade level follow the left node horizontally (``equalDOF``), which
   carries the level's mass.
@@ -59,7 +61,7 @@ BRACE_MATERIAL = 999
 #: a beam's axial EA/L, so the pinned beam's periods are those of a moment
 #: release to 7 digits
 PIN_MATERIAL, PIN_STIFFNESS = 998, 1e8
-#: element tags of the pins: this plus 100 level + line
+#: element tags of the pins: this plus their pin node's tag
 PIN_LINKS_FROM = 6000
 #: geometric transformation tag of the members
 GEOM_TRANSF = 1
@@ -94,9 +96,11 @@ def splice_node(story: int, line: int) -> int:
     return 100 * story + 51 + line
 
 
-def pin_node(level: int, line: int) -> int:
-    """Tag of the node where a beam of ``level`` ends with a simple connection on column ``line``."""
-    return 100 * level + 81 + line
+def pin_node(level: int, line: int, end: int) -> int:
+    """Tag of the node where a beam of ``level`` ends with a simple connection
+    on column ``line``: its left end (``end`` 0, the beam starts there) or its
+    right end (1); a beam on each side of the line has its own pin."""
+    return 100 * level + (71 if end == 0 else 81) + line
 
 
 def floor_nodes(b: Building) -> tuple[int, ...]:
@@ -200,25 +204,27 @@ def _member_commands(b: Building) -> list:
     for level in range(1, b.levels + 1):
         for bay, section in enumerate(b.beams[level - 1]):
             if section is not None:
-                ends = [joint_node(level, line) if line not in b.pinned_lines else pin_node(level, line)
-                        for line in (bay, bay + 1)]
-                members.add(2000 + 100 * level + bay, *ends, section, b.fy_beams)
-                pins += [(level, line) for line in (bay, bay + 1) if line in b.pinned_lines]
+                ends = [(line, end) for end, line in enumerate((bay, bay + 1))]
+                members.add(2000 + 100 * level + bay, *[pin_node(level, line, end) if line in b.pinned_lines
+                                                        else joint_node(level, line) for line, end in ends],
+                            section, b.fy_beams)
+                pins += [(level, line, end) for line, end in ends if line in b.pinned_lines]
     return _pin_commands(b, pins) + members.commands
 
 
 def _pin_commands(b: Building, pins: list) -> list:
-    """A simple (shear) connection at each (level, line): the beam's end node
-    joined to the joint by a zeroLength of PIN_STIFFNESS in x and y, free in
-    rotation (no Rayleigh damping: a zeroLength adds it only with -doRayleigh)."""
+    """A simple (shear) connection at each (level, line, end): the beam's end
+    node joined to the joint by a zeroLength of PIN_STIFFNESS in x and y, free
+    in rotation (no Rayleigh damping: a zeroLength adds it only with -doRayleigh)."""
     if not pins:
         return []
     x, z = b.column_lines, b.elevations
     out = [("uniaxialMaterial", "Elastic", PIN_MATERIAL, PIN_STIFFNESS)]
-    for level, line in pins:
-        out += [("node", pin_node(level, line), x[line], z[level]),
-                ("element", "zeroLength", PIN_LINKS_FROM + 100 * level + line, joint_node(level, line),
-                 pin_node(level, line), "-mat", PIN_MATERIAL, PIN_MATERIAL, "-dir", 1, 2)]
+    for level, line, end in pins:
+        pin = pin_node(level, line, end)
+        out += [("node", pin, x[line], z[level]),
+                ("element", "zeroLength", PIN_LINKS_FROM + pin, joint_node(level, line), pin,
+                 "-mat", PIN_MATERIAL, PIN_MATERIAL, "-dir", 1, 2)]
     return out
 
 
