@@ -5,9 +5,10 @@ tool) of a law-2 device with a 150 kN/mm oil column, the paper protocol
 (40 mm at 500 mm/s, dt 0.002 s), 1 kN force and 0.005 mm displacement
 noise.  For laws 2 and 9, best of 3 in one process:
 
-- fvd_bridge's default fit ``local+de`` (local first, then a DE check),
-  ``local`` (the local search alone) and ``de`` (DE and its Nelder-Mead
-  polish, the default up to version 0.2.0);
+- fvd_bridge's default fit ``local`` (least squares on eq. 18 from the
+  law's data-driven start and a Sobol sample's), ``local+de`` (the same,
+  then a DE check) and ``de`` (DE and its Nelder-Mead polish, the default
+  up to version 0.2.0);
 - the peer: scipy ``least_squares`` (the solver lmfit's ``least_squares``
   method calls) on the plain residuals F_model - F from a data-driven start
   (law 2: a log-log regression of |F| on |v| over the fastest half of the
@@ -87,7 +88,7 @@ def main() -> None:
         model.force(rec, bounds.mean(axis=1)[None, :])  # compile first
         peer_wall, (_, peer_of) = best_of(args.repeats, lambda: peer_fit(model, rec, start_of(law, rec), bounds))
         rows = [("scipy least_squares (peer)", peer_wall, peer_of)]
-        for opt in ("de", "local", DEFAULT_OPTIMIZER):
+        for opt in ("de", "local+de", DEFAULT_OPTIMIZER):
             wall, fit = best_of(args.repeats, lambda: fit_model(model, rec, optimizer=opt, seed=0))
             rows.append((f"fvd_bridge {opt}{' (default)' if opt == DEFAULT_OPTIMIZER else ''}", wall, fit.of))
         for name, wall, of in rows:

@@ -55,11 +55,12 @@ def add_campaign_options(p):
                         "law/spec, e.g. --bound 9:alpha=0,50 (repeatable)")
     p.add_argument("--seed", type=int, default=0, help="base seed; the same seed gives the same results")
     p.add_argument("--optimizer", default=DEFAULT_OPTIMIZER, choices=OPTIMIZERS,
-                   help="'local+de' (default: a local least-squares solve on eq. 18, then a DE check), 'de' "
-                        "(differential evolution + polish), 'local' (the local solve alone), 'ga' (the "
-                        "paper's GA, Table 3), 'ga+polish'")
-    p.add_argument("--pop", type=int, help="population (GA: individuals, default 200; DE and local+de's DE check: per parameter, 15)")
-    p.add_argument("--gens", type=int, help="maximum generations (default GA 200, DE and local+de's DE check 300)")
+                   help="'local' (default: least squares on eq. 18 from the data's start and a sample's; "
+                        "law 7 and the gap: DE), 'local+de' (then a DE check), 'de' (differential evolution "
+                        "+ polish), 'ga' (the paper's GA, Table 3), 'ga+polish'")
+    p.add_argument("--pop", type=int, help="population (GA: individuals, default 200; DE: per parameter, 15; "
+                                           "the DE of local and local+de: 8)")
+    p.add_argument("--gens", type=int, help="maximum generations (default GA 200, DE 300)")
     p.add_argument("--stall", type=int, help="GA: stop after this many generations without improvement (20)")
     p.add_argument("--jobs", type=int, default=0, help="processes (default: one per core)")
     p.add_argument("--plugin", action="append", default=[], help="Python file defining extra effects")

@@ -28,7 +28,8 @@ from ..catalog import catalog as default_catalog
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..records.device import as_device
-from ..fit.local import CheckedSettings
+from ..fit.de import DESettings
+from ..fit.local import LocalSettings
 from . import where as where_mod
 from .floor import input_noise_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
@@ -40,22 +41,23 @@ BASE_TOL = 1e-6
 #: an OF up to this multiple of the floor is "close to the floor" in the verdict
 NEAR_FLOOR = 1.5
 
-#: default optimizer settings of diagnose: DE population per parameter,
-#: generations, Nelder-Mead polish evaluations (smaller than calibrate's: a
-#: diagnosis runs 1 + 7 fits and the ladder many more; on the rig's records
-#: they reach the same OF as calibrate's defaults to 4 digits)
+#: diagnose's settings of the DE that a model declaring global_search gets:
+#: population per parameter, generations, and the Nelder-Mead evaluations
+#: when a candidate lowers the base (smaller than calibrate's: a diagnosis
+#: runs 1 + 7 fits and the ladder many more; on the rig's records they
+#: reach the same OF as calibrate's defaults to 4 digits)
 DIAGNOSE_POP, DIAGNOSE_GENS, DIAGNOSE_POLISH = 8, 120, 1000
 
 
 def diagnose_settings(pop: int | None = None, gens: int | None = None, polish_evals: int | None = None):
-    """Settings of diagnose's fits, the default optimizer's (local first,
-    then its DE check with population ``pop`` per parameter and at most
-    ``gens`` generations; ``polish_evals``: Nelder-Mead evaluations when a
-    candidate lowers the base).  None keeps the diagnose default."""
+    """Settings of diagnose's fits, the default optimizer's (``local``; a
+    model that declares global_search: DE with population ``pop`` per
+    parameter and at most ``gens`` generations; ``polish_evals``:
+    Nelder-Mead evaluations when a candidate lowers the base).  None keeps
+    the diagnose default."""
     settings_for(DEFAULT_OPTIMIZER, pop, gens)  # validates
-    base = CheckedSettings()
-    return CheckedSettings(base.local, replace(base.check, popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
-                                               polish_evals=polish_evals or DIAGNOSE_POLISH))
+    return replace(LocalSettings(), search=DESettings(popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
+                                                      polish_evals=polish_evals or DIAGNOSE_POLISH))
 
 
 @dataclass
@@ -198,7 +200,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             of_off, start = lower_base(found, model)
             if start is None or not of_off < base_fit.of * (1.0 - BASE_TOL):
                 break
-            params, of = polish_model(model, record, start, max_evals=settings.check.polish_evals)
+            params, of = polish_model(model, record, start, max_evals=settings.search.polish_evals)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
             base_fit.params, base_fit.of = params, of
             history.append(("lowered by a candidate's refit", float(of)))

@@ -13,22 +13,23 @@ from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
 from .local import FROM_START, CheckedSettings, LocalSettings, run_checked, run_local
 from .layout import Layout
-from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, nested_start, wider_bounds
+from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, data_start, nested_start, wider_bounds
 from .objective import objective
 from .result import FitResult
 from .space import Space
 
-OPTIMIZERS = ("local+de", "de", "ga", "ga+polish", "local")
-DEFAULT_OPTIMIZER = "local+de"
+OPTIMIZERS = ("local", "local+de", "de", "ga", "ga+polish")
+DEFAULT_OPTIMIZER = "local"
 
 
 def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None, stall: int | None = None):
     """Optimizer settings with CLI/YAML overrides (None keeps the default)."""
     if optimizer not in OPTIMIZERS:
         raise InputError(f"--optimizer '{optimizer}': expected one of {', '.join(OPTIMIZERS)}")
-    if optimizer == "local":
+    if optimizer == "local":  # pop, gens: the DE of a model that declares global_search
         base = LocalSettings()
-        return LocalSettings(samples=pop or base.samples, starts=gens or base.starts)
+        return replace(base, search=replace(base.search, popsize=pop or base.search.popsize,
+                                            gens=gens or base.search.gens))
     if optimizer == "local+de":
         base = CheckedSettings()
         return replace(base, check=replace(base.check, popsize=pop or base.check.popsize,
@@ -122,10 +123,12 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
     above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
     round: the optimum moves on from where it stopped)."""
-    if optimizer == "local+de" and model.global_search:  # the law or an effect asks for DE
-        optimizer, settings = "de", replace(settings.check, polish=True, stall=None)
+    if optimizer.startswith("local") and model.global_search:  # the law or an effect asks for DE
+        optimizer, settings = "de", settings.search
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
+    if start is None and optimizer.startswith("local"):  # the local search starts from the data
+        start = data_start(model, device, layout.per_test)
     p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)
     if local and x0 is not None and optimizer.startswith("local"):

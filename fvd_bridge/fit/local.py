@@ -1,8 +1,12 @@
-"""Local first: a fit that starts where the answer is (``--optimizer local``).
+"""Local first: a fit that starts where the answer is (the default optimizer, ``local``).
 
-1. A Sobol sample of the unit cube (``samples`` points, one batch of the
-   vectorised kernels; the caller's start among them) gives the ``starts``
-   best points that lie apart from each other.
+1. The starts: the law's data-driven start (``laws/starts.py``, through
+   ``fit.api``) and a Sobol sample of the unit cube (``samples`` points, one
+   batch of the vectorised kernels); the ``starts`` best points that lie
+   apart from each other, the data's start among them.  Two starts are the
+   multi-start check: on the demo series (laws 1-6, 8-10, 5 devices, 20
+   seeds) every fit ended on the best OF that DE seeded with it finds
+   (benchmarks/bench_optimizers.py).
 2. From each, trust-region least squares on the weighted residuals whose
    absolute sum is eq. 18 (scipy ``least_squares``, soft-L1 loss, Jacobian
    by forward differences: one batch of n points per iteration), its loss
@@ -12,16 +16,16 @@
    device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
-The best end is kept, never worse than the caller's start.  ``run_checked``
-(the default optimizer, ``local+de``) adds the global check: DE
-(``fit.de``) with the local optimum in its first population, stopped when
-nothing better appears; a model whose law or effect declares
-``global_search`` (law 7, the gap) gets DE alone (``fit.api``).
+The best end is kept, never worse than the caller's start.  A model whose
+law or effect declares ``global_search`` (law 7, the gap) gets DE instead
+(``search``; ``fit.api``).  ``run_checked`` (``local+de``) adds a global
+check for the doubtful: DE (``fit.de``) with the local optimum in its first
+population, stopped when nothing better appears.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -34,12 +38,14 @@ from .de import DESettings, polish, run_de
 class LocalSettings:
     """samples: Sobol points (a power of 2); starts: local solves from the
     best distinct ones; max_nfev: least-squares iterations each;
-    polish_evals: Nelder-Mead evaluations of the final polish."""
+    polish_evals: Nelder-Mead evaluations of the final polish; search: the
+    DE of a model that declares ``global_search``."""
 
     samples: int = 32
     starts: int = 2
     max_nfev: int = 40
     polish_evals: int = 0
+    search: DESettings = DESettings(popsize=8)
 
 
 #: the local search from a given start alone (no sample around it)
@@ -128,10 +134,15 @@ class CheckedSettings:
     local: LocalSettings = LocalSettings()
     check: DESettings = DESettings(popsize=8, polish=False, stall=20)
 
+    @property
+    def search(self) -> DESettings:
+        """The DE of a model that declares ``global_search``: the check's, run to the end and polished."""
+        return replace(self.check, polish=True, stall=None)
+
 
 def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: CheckedSettings = CheckedSettings(),
                 on_generation=None, x0: np.ndarray | None = None):
-    """Local first, global check (the default optimizer): ``run_local``, then
+    """Local first, global check (``local+de``): ``run_local``, then
     DE seeded with its optimum and stopped when nothing better appears; a
     better point found there is solved locally again.  Returns (x, OF,
     history, evaluations) as ``run_de`` does."""

@@ -45,6 +45,17 @@ def nested_start(model, record, parent_names, parent_params, per_test=()) -> np.
     return Layout(model, tuple(device.test_names), tuple(per_test)).expand(values)
 
 
+def data_start(model, record, per_test=()) -> np.ndarray | None:
+    """The law's data-driven start (``Law.start`` on all tests' samples
+    together) with each effect off, as ``nested_start`` lays it out; None
+    when the law has none."""
+    if model.law.start is None:
+        return None
+    device = as_device(record)
+    d, v, F = (np.concatenate([getattr(t, k) for t in device.tests]) for k in "dvF")
+    return nested_start(model, device, model.law.names, model.law.start(d, v, F), per_test)
+
+
 def wider_bounds(model, fit, fixed=()) -> dict:
     """{law parameter: (lower, upper)} widened where ``fit`` (a FitResult)
     ended on an automatic bound; parameters in ``fixed`` (the user's --bound)

@@ -97,6 +97,8 @@ class Law:
     realistic parameter set (the golden files, benchmarks); ``opensees``:
     its OpenSees form (None: none); ``fmu``: the FMU's C code carries it;
     ``paper``: one of the paper's nine laws (its protocol, ``demo``);
+    ``start(d, v, F) -> parameters``: its data-driven start (``starts.py``;
+    None: the local search starts from a sample alone);
     ``global_search``: its objective has basins that a local solve from a
     sample does not leave, so the default optimizer searches it globally (DE)."""
 
@@ -118,6 +120,7 @@ class Law:
     fmu: bool = True
     paper: bool = True
     global_search: bool = False
+    start: Callable | None = None
 
     @property
     def key(self) -> str:

@@ -12,7 +12,7 @@ at 2 and law 6's K at 30, and keep law 7 below the measured force).
 from __future__ import annotations
 
 from ..errors import InputError
-from . import algebraic, differential
+from . import algebraic, differential, starts
 from . import opensees_forms as ops_form
 from .base import Derived, Law, OpenSeesForm, Parameter
 
@@ -42,13 +42,15 @@ ALPHA = Parameter("alpha", "-", (0.0, 1.0), _alpha, "damping exponent")
 
 LAWS = {
     1: Law(1, "linear viscous", "algebraic", "F = C v", "paper eq. 1",
-           (C_LIN,), algebraic.law1, velocity_only=True, reference=(0.6,), opensees=ops_form.LAW1),
+           (C_LIN,), algebraic.law1, velocity_only=True, reference=(0.6,), opensees=ops_form.LAW1,
+           start=starts.law1),
     2: Law(2, "generalized viscous", "algebraic", "F = C sign(v)|v|^alpha", "paper eq. 2",
-           (C_POW, ALPHA), algebraic.law2, velocity_only=True, reference=(45.0, 0.3), opensees=ops_form.LAW2),
+           (C_POW, ALPHA), algebraic.law2, velocity_only=True, reference=(45.0, 0.3), opensees=ops_form.LAW2,
+           start=starts.law2),
     3: Law(3, "generalized viscous + linear spring", "algebraic",
            "F = K1 d + C sign(v)|v|^alpha", "paper eq. 5",
            (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 200.0), _k_lin, "parallel stiffness")),
-           algebraic.law3, reference=(45.0, 0.3, 5.0), opensees=ops_form.LAW3),
+           algebraic.law3, reference=(45.0, 0.3, 5.0), opensees=ops_form.LAW3, start=starts.law3),
     4: Law(4, "generalized viscous + quadratic spring", "algebraic",
            "F = K1 d + K2 d^2 + C sign(v)|v|^alpha", "paper eq. 6",
            (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 300.0), _k_lin, "linear stiffness"),
@@ -57,7 +59,7 @@ LAWS = {
                       "quadratic stiffness", limit=(-float("inf"), float("inf")))),
            algebraic.law4,
            note="K2 d^2 is even in d, as printed: it pushes the same way in tension and compression.",
-           reference=(45.0, 0.3, 5.0, 0.1), opensees=ops_form.LAW4),
+           reference=(45.0, 0.3, 5.0, 0.1), opensees=ops_form.LAW4, start=starts.law4),
     5: Law(5, "generalized Kelvin-Voigt", "algebraic",
            "F = K sign(d)|d|^beta + C sign(v)|v|^alpha", "paper eq. 7",
            (C_POW, ALPHA,
@@ -66,7 +68,7 @@ LAWS = {
                                  3.0 * s["F"] * max(1.0, 1.0 / s["d"]) ** BETA5_MAX),
                       "spring coefficient", log=True),
             Parameter("beta", "-", (0.0, 5.0), lambda s: (0.0, BETA5_MAX), "spring exponent")),
-           algebraic.law5, reference=(45.0, 0.3, 2.0, 1.2), opensees=ops_form.LAW5),
+           algebraic.law5, reference=(45.0, 0.3, 2.0, 1.2), opensees=ops_form.LAW5, start=starts.law5),
     6: Law(6, "Bouc-Wen + viscous", "differential",
            "F = alpha K d + (1-alpha) K z + C v;  dz/dt = v - beta |v| z - beta v |z|",
            "paper eqs. 8-9 with A = n = 1, beta = gamma (Bouc-Wen standard form)",
@@ -77,7 +79,7 @@ LAWS = {
             Parameter("beta", "1/mm", (0.0, 5.0), lambda s: (0.0, 200.0 / s["d"]),
                       "hysteresis shape (beta = gamma); z saturates at 1/(2 beta)")),
            differential.law6, state=("z",), device="hysteretic", reference=(0.25, 60.0, 0.01, 0.08),
-           opensees=ops_form.LAW6),
+           opensees=ops_form.LAW6, start=starts.law6),
     7: Law(7, "Lu unified, visco-elastic", "differential",
            "F = K sign(z)|z|^beta;  dz/dt = v - sign(z) (K |z|^beta / C)^(1/alpha)",
            "paper eqs. 10-11 (Lu et al.); beta = 1 is the Maxwell model",
@@ -108,7 +110,8 @@ LAWS = {
            note="only the slip force mu N is identifiable; mu and N alone are not.",
            derived=(Derived("mu*N", "kN", lambda p: p[2] * p[3], "slip force, the identifiable product",
                             ("mu", "N")),),
-           state=("z",), device="hysteretic", reference=(0.25, 30.0, 0.5, 330.0), opensees=ops_form.LAW8),
+           state=("z",), device="hysteretic", reference=(0.25, 30.0, 0.5, 330.0), opensees=ops_form.LAW8,
+           start=starts.law8),
     9: Law(9, "LuGre + viscous", "differential",
            "F = beta z + C v;  dz/dt = v - alpha |v| z",
            "paper eqs. 14-15 with eps = K = F0 = 0 (Canudas de Wit et al.)",
@@ -118,7 +121,7 @@ LAWS = {
             Parameter("beta", "kN/mm", (20.0, 100.0), lambda s: (0.0, 100.0 * s["F"] / s["d"]),
                       "bristle stiffness", rigid_upper=True)),
            differential.law9, state=("z",), device="hysteretic", reference=(0.2, 0.15, 27.0),
-           opensees=ops_form.LAW9),
+           opensees=ops_form.LAW9, start=starts.law9),
     10: Law(10, "bilinear oil damper", "differential",
             "F = K (d - x_d);  dx_d/dt = F/C (|F| <= Fr),  sign(F) (Fr/C + (|F| - Fr)/(p C)) beyond",
             "Kasai et al. 2004, Japanese practice (a relief valve opens at Fr); OpenSees BilinearOilDamper",
@@ -136,7 +139,8 @@ LAWS = {
                  "with Fr above the peak force p is not identified.",
             opensees=OpenSeesForm("BilinearOilDamper K C Fr p",
                                   lambda s, p: s.mat("BilinearOilDamper", p["K"], p["C"], p["Fr"], p["p"],
-                                                     global_step=True))),
+                                                     global_step=True)),
+            start=starts.law10),
 }
 #: the paper's nine laws (its protocol: ``demo``, calibrate's default)
 PAPER_LAWS = tuple(law for law in LAWS.values() if law.paper)

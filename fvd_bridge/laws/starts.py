@@ -1,0 +1,118 @@
+"""Data-driven starts: a law's parameters estimated from a record's samples in closed form.
+
+A start is the local search's first point (``fit.local``), not a result: it
+only has to lie in the optimum's basin.  Each estimate reads one feature of
+a sinusoidal loop: d [mm], v [mm/s], F [kN] of all tests together.
+
+- the viscous term C sign(v)|v|^alpha: a log-log regression of |F| on |v|
+  over the fastest half of the samples, where a spring or friction term
+  is smallest against it;
+- a parallel spring K1: the slope of F against d over the slowest tenth,
+  where the viscous term vanishes;
+- a friction or bristle force Ff: the median |F| over the slowest tenth
+  (at a reversal the hysteretic variable is still saturated), with the
+  saturation travel set to a tenth of the stroke.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: the hysteretic laws' saturation travel, as a share of the stroke amplitude
+SATURATION_SHARE = 0.1
+
+
+def _slow(v: np.ndarray) -> np.ndarray:
+    return np.abs(v) <= np.quantile(np.abs(v), 0.1)
+
+
+def _fast(v: np.ndarray) -> np.ndarray:
+    return np.abs(v) >= np.median(np.abs(v))
+
+
+def power_term(v: np.ndarray, F: np.ndarray) -> tuple[float, float]:
+    """(C, alpha) of F = C sign(v)|v|^alpha from the fastest half of the samples."""
+    fast = _fast(v) & (np.abs(v) > 0)
+    if fast.sum() < 2:
+        return float(np.mean(np.abs(F))), 1.0
+    alpha, log_c = np.polyfit(np.log(np.abs(v[fast])), np.log(np.maximum(np.abs(F[fast]), 1e-9)), 1)
+    alpha = float(np.clip(alpha, 0.05, 1.0))
+    return float(np.median(np.abs(F[fast]) / np.abs(v[fast]) ** alpha)), alpha
+
+
+def spring(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> float:
+    """K1 [kN/mm] >= 0: the slope of F against d where the velocity is slowest."""
+    slow = _slow(v)
+    if np.ptp(d[slow]) <= 0:
+        return 0.0
+    return max(float(np.polyfit(d[slow], F[slow], 1)[0]), 0.0)
+
+
+def hysteretic(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> tuple[float, float, float]:
+    """(Ff [kN], y [mm], C [kN/(mm/s)]): the friction force at the reversals,
+    its saturation travel and the linear viscous term of the remainder."""
+    Ff = float(np.median(np.abs(F[_slow(v)])))
+    y = SATURATION_SHARE * max(float(np.ptp(d)) / 2.0, 1e-9)
+    fast = _fast(v)
+    rest = F[fast] - Ff * np.sign(v[fast])
+    C = max(float(np.sum(rest * v[fast]) / max(np.sum(v[fast] ** 2), 1e-30)), 0.0)
+    return Ff, y, C
+
+
+def law1(d, v, F):
+    """C = sum(F v) / sum(v^2) (least squares of eq. 1)."""
+    return (max(float(np.sum(F * v) / max(np.sum(v * v), 1e-30)), 0.0),)
+
+
+def law2(d, v, F):
+    return power_term(v, F)
+
+
+def law3(d, v, F):
+    K1 = spring(d, v, F)
+    return (*power_term(v, F - K1 * d), K1)
+
+
+def law4(d, v, F):
+    return (*law3(d, v, F), 0.0)
+
+
+def law5(d, v, F):
+    """The spring as law 3's with beta = 1 (one amplitude does not fix beta)."""
+    return (*law3(d, v, F), 1.0)
+
+
+def law6(d, v, F):
+    """alpha 0.05; z saturates at 1/(2 beta) = y, the hysteretic force (1-alpha) K y = Ff."""
+    Ff, y, C = hysteretic(d, v, F)
+    return C, Ff / (0.95 * y), 0.05, 1.0 / (2.0 * y)
+
+
+def law8(d, v, F):
+    """mu N = Ff (mu 0.5), slipping after a travel y: K = Ff / y."""
+    Ff, y, C = hysteretic(d, v, F)
+    return C, Ff / y, 0.5, 2.0 * Ff
+
+
+def law9(d, v, F):
+    """z saturates at 1/alpha = y, the bristle force beta / alpha = Ff."""
+    Ff, y, C = hysteretic(d, v, F)
+    return C, 1.0 / y, Ff / y
+
+
+#: law 10's start: the relief knee at this share of the peak velocity, the
+#: series spring deflecting 1/RIGID_SHARE of the stroke amplitude at the peak force
+KNEE_SHARE, RIGID_SHARE = 0.1, 30.0
+
+
+def law10(d, v, F):
+    """Beyond the relief force the force is a line in |v|: |F| = a + b |v|
+    with b = p C (a regression over the fastest half), which meets F = C v
+    at the knee v_k: Fr = a + b v_k, C = Fr / v_k, p = b / C."""
+    fast = _fast(v)
+    b, a = np.polyfit(np.abs(v[fast]), np.abs(F[fast]), 1)
+    v_k = KNEE_SHARE * float(np.max(np.abs(v)))
+    Fr = max(float(a + b * v_k), 1e-9)
+    C = Fr / v_k
+    amplitude = max(float(np.ptp(d)) / 2.0, 1e-9)
+    return RIGID_SHARE * float(np.max(np.abs(F))) / amplitude, C, Fr, float(np.clip(b / C, 1e-3, 1.0))
