@@ -12,8 +12,9 @@
    by forward differences: one batch of n points per iteration), its loss
    scale lowered in SCALE_SHARES steps, each solve starting where the last
    ended: the last is eq. 18's L1 but for residuals below 1/2000 of the
-   start's median, so it ends at eq. 18's optimum (to 6 digits on the demo
-   device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).
+   start's median, so it ends at eq. 18's optimum (to 5 digits on the demo
+   device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).  A start whose
+   coarse solve ends where an earlier one's did is not refined again.
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
 The best end is kept, never worse than the caller's start.  A model whose
@@ -53,8 +54,11 @@ FROM_START = LocalSettings(samples=1, starts=1)
 #: two starts closer than this (unit-cube distance) are one
 DISTINCT = 0.15
 #: the soft-L1 loss's scale, as shares of the start's median |residual|:
-#: residuals above it count as in L1 (the last solves are L1 but for the noise's smallest)
+#: residuals above it count as in L1 (the last solve is L1 but for the noise's smallest)
 SCALE_SHARES = (0.05, 0.005, 0.0005)
+#: a start whose first (coarse) solve ends this close (unit-cube distance) to
+#: an earlier start's is in the same basin: it is not refined again
+SAME_BASIN = 0.02
 #: forward-difference step in the unit cube
 FD_STEP = 1e-6
 
@@ -104,14 +108,22 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
         count[0] += n
         return np.where(np.isfinite(R), (R - r0) / h[:, None], 0.0).T
 
-    best_x, best_of = X[int(np.argmin(of))], float(np.min(of))
-    for i in _starts(X, of, s.starts):
-        x = X[i]
-        scale = max(float(np.median(np.abs(fun(x)))), 1e-30)
-        for share in SCALE_SHARES:  # soft-L1 towards L1: each solve starts where the last ended
+    def solve(x, shares, scale):  # soft-L1 towards L1: each solve starts where the last ended
+        for share in shares:
             res = least_squares(fun, x, jac=jac, bounds=(0.0, 1.0), loss="soft_l1", f_scale=share * scale,
                                 x_scale="jac", max_nfev=s.max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10)
             x = np.clip(res.x, 0.0, 1.0)
+        return x
+
+    best_x, best_of = X[int(np.argmin(of))], float(np.min(of))
+    basins: list[np.ndarray] = []
+    for i in _starts(X, of, s.starts):
+        scale = max(float(np.median(np.abs(fun(X[i])))), 1e-30)
+        x = solve(X[i], SCALE_SHARES[:1], scale)
+        if any(np.linalg.norm(x - b) < SAME_BASIN for b in basins):
+            continue  # an earlier start's coarse solve ended here: the same optimum
+        basins.append(x)
+        x = solve(x, SCALE_SHARES[1:], scale)
         f = float(evaluate(x[None, :])[0])
         count[0] += 1
         history.append(f)

@@ -100,9 +100,10 @@ def law9(d, v, F):
     return C, 1.0 / y, Ff / y
 
 
-#: law 10's start: the relief knee at this share of the peak velocity, the
-#: series spring deflecting 1/RIGID_SHARE of the stroke amplitude at the peak force
-KNEE_SHARE, RIGID_SHARE = 0.1, 30.0
+#: law 10's relief knee, as a share of the peak velocity
+KNEE_SHARE = 0.1
+#: a series spring's start deflects 1/RIGID_SHARE of the stroke amplitude at the peak force
+RIGID_SHARE = 30.0
 
 
 def law10(d, v, F):
