@@ -25,9 +25,12 @@ from ..io.staging import staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
 from . import stats
 from .checks import fit_warnings
+from .executors import Processes
 
 #: schema of table_A7.csv, robustness.csv, pareto.csv and summary.json
 SCHEMA_VERSION = 1
+#: from this many loop figures on, they are drawn in the campaign's processes
+PARALLEL_FIGURES = 8
 
 
 def spec_file(spec: str) -> str:
@@ -169,6 +172,7 @@ def _figures(stage, records, summary, cs):
     fig_dir = os.path.join(stage, "figures")
     os.makedirs(fig_dir, exist_ok=True)
     specs, devices = list(cs.specs), summary["devices"]
+    loops = []
     for dev in records:
         tests = as_device(dev).tests
         for spec in specs:
@@ -176,8 +180,11 @@ def _figures(stage, records, summary, cs):
             cal = Calibration.from_fit(cs.model(spec), best, dev)
             for k, rec in enumerate(tests):
                 name = rec.name if len(tests) == 1 else f"{dev.name}_{rec.name}"
-                plots.loops(rec, cal.force(rec, test=rec.name), f"{name}, law {spec}: OF {cal.tests[k]['of']:.4f}",
-                            os.path.join(fig_dir, f"loops_{name}_law{spec}.png"))
+                loops.append((rec, cal.force(rec, test=rec.name), f"{name}, law {spec}: OF {cal.tests[k]['of']:.4f}",
+                              os.path.join(fig_dir, f"loops_{name}_law{spec}.png")))
+    # one loop figure takes about 0.25 s: dozens of them go to the campaign's processes
+    for _ in Processes(cs.jobs if len(loops) >= PARALLEL_FIGURES else 1).run(plots.loops, loops):
+        pass
     M = summary["models"]
     plots.of_bars(specs, devices, np.array([M[s]["of_mean"] for s in specs]),
                   np.array([M[s]["of_sigma"] for s in specs]), os.path.join(fig_dir, "of_bars.png"))
