@@ -82,7 +82,7 @@ def main() -> None:
         model = cat.model(spec)
         one, cal = best_of(args.repeat, lambda: calibrate(tests[1], model, runs=1, intervals=0))
         twenty, _ = best_of(1, lambda: calibrate(tests[1], model, runs=20, intervals=0))
-        iv, _ = best_of(args.repeat, lambda: intervals(model, tests[1], cal.params, bounds=cal.bounds))
+        iv, _ = best_of(args.repeat, lambda: intervals(model, tests[1], cal.values, bounds=cal.bounds))
         print(f"  {spec:<30}{one:>8.2f}s{twenty:>9.2f}s{iv:>10.2f}s{iv / one:>8.1f}{iv / twenty:>10.2f}")
     sys.stdout.flush()
 

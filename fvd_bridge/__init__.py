@@ -1,34 +1,36 @@
 """fvd_bridge: calibrate fluid-viscous damper (FVD) laws on test records,
-explain their misfit, and export them.  Units everywhere: kN, mm, s.
+explain their misfit, and export them to OpenSees and FMI.  Units inside:
+kN, mm, s; at the edges, the user's own.
 
-The names a notebook user needs (imported on first use)::
+The notebook API (``fvd_bridge.api``)::
 
-    from fvd_bridge import read_record, parse_model, calibrate, diagnose_record, Calibration, Device
+    import fvd_bridge as fb
+    rec = fb.Record.from_arrays(t, d, F, units=("N", "m", "s"))
+    cal = fb.calibrate(rec, "2", bounds={"alpha": (0.1, 1.0)})
+    diag = fb.diagnose(rec, "2"); better = diag.accept()
 
-(``diagnose_record`` is the ``diagnose`` verb; the plain name belongs to the
-subpackage fvd_bridge.diagnose.)
+``dir(fvd_bridge)`` lists the public names.
 """
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
-_API = {
-    "read_record": ("fvd_bridge.records", "read_record"),
-    "Record": ("fvd_bridge.records", "Record"),
-    "Model": ("fvd_bridge.model", "Model"),
-    "parse_model": ("fvd_bridge.catalog", "parse_model"),
-    "calibrate": ("fvd_bridge.api", "calibrate"),
-    "Calibration": ("fvd_bridge.calibration", "Calibration"),
-    "Device": ("fvd_bridge.records.device", "Device"),
-    "diagnose_record": ("fvd_bridge.api", "diagnose_record"),
-}
+from .api import calibrate, diagnose, diagnose_record  # noqa: E402
+from .calibration import Calibration, FittedParameter  # noqa: E402
+from .catalog import parse_model  # noqa: E402
+from .diagnose.core import Diagnosis  # noqa: E402
+from .errors import FitWarning, InputError  # noqa: E402
+from .model import Model  # noqa: E402
+from .records import read_record  # noqa: E402
+from .records.device import Device  # noqa: E402
+from .records.readers import RecordWarning  # noqa: E402
+from .records.record import Record  # noqa: E402
 
-__all__ = ["__version__", *_API]
+# ``diagnose`` is the function: imported after the subpackage fvd_bridge.diagnose, whose name it takes
+
+__all__ = ["__version__", "Calibration", "Device", "Diagnosis", "FitWarning", "FittedParameter", "InputError",
+           "Model", "Record", "RecordWarning", "calibrate", "diagnose", "diagnose_record", "parse_model",
+           "read_record"]
 
 
-def __getattr__(name):
-    if name in _API:
-        import importlib
-
-        module, attr = _API[name]
-        return getattr(importlib.import_module(module), attr)
-    raise AttributeError(f"module 'fvd_bridge' has no attribute '{name}'")
+def __dir__():
+    return list(__all__)

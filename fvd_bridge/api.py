@@ -1,70 +1,154 @@
 """The Python entry points a notebook user needs, each one call.
 
-    rec = read_record("dev1.csv")                 # fvd_bridge.records
-    m = parse_model("2+friction")                  # law + effects
-    cal = calibrate(rec, m, runs=3, seed=0)        # best of 3 seeded fits -> Calibration, with 95% intervals
-    dev = Device("sn101", [read_record(p) for p in ("a.csv", "b.csv")])
-    cal = calibrate(dev, "9", per_test=["beta"])   # tests of one device fitted together
-    cal.save("law2+friction.yaml"); Calibration.load("law2+friction.yaml")
-    diag = diagnose_record(rec, "2")               # where it fails, what is missing
+    import fvd_bridge as fb
+    rec = fb.Record.from_arrays(t, d, F, units=("N", "m", "s"))   # or fb.read_record("dev1.csv")
+    cal = fb.calibrate(rec, "2", runs=3, bounds={"alpha": (0.1, 1.0)})
+    cal.params["C"].ci95; print(cal.report()); cal.plot()
+    cal.to_opensees(tag=1, units=("kN", "m", "s")).apply(ops); cal.to_fmu("damper.fmu")
+    diag = fb.diagnose(rec, "2"); better = diag.accept()        # the best effect's refit
+    cal = fb.calibrate([test1, test2], "9", device="sn101", per_test=["beta"])   # tests of one device
 
-Units: kN, mm, s.
+Units inside: kN, mm, s.  Messages and warnings (``FitWarning``,
+``RecordWarning``) name these functions' arguments.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import asdict
 
 import numpy as np
 
+from .api_words import api_errors, in_api_words
 from .calibration import Calibration
 from .campaign.checks import fit_warnings
 from .catalog import catalog
-from .diagnose import climb, diagnose
-from .errors import InputError
+from .diagnose import climb
+from .diagnose import diagnose as run_diagnosis
+from .errors import FitWarning, InputError
 from .fit import DEFAULT_OPTIMIZER, fit_model, settings_for
 from .fit.intervals import REPLICATES
 from .fit.intervals import intervals as fit_intervals
 from .fit.nested import nested_start
+from .records.device import Device
+from .records.record import Record
 
 
-def calibrate(record, model_or_spec, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
-              bounds: str = "auto", plugins=(), pop: int | None = None, gens: int | None = None,
-              per_test=(), start=None, intervals: int = REPLICATES) -> Calibration:
-    """Fit one model to one record (or a Device: its tests together) ``runs``
-    times, with the seeds `fvd-bridge calibrate RECORD --laws SPEC --runs N
-    --seed S` gives its runs (campaign.tasks: (seed, device 0, model 0, run)),
-    so both reach the same calibration; the best run as a Calibration with
-    the post-fit warnings, the run statistics and ``intervals`` bootstrap
-    replicates' 95% intervals (0: none; fit.intervals).  ``pop``, ``gens``:
-    optimizer settings as `calibrate --pop --gens` (None: defaults);
-    ``per_test``: parameters fitted per test; ``start``: a Calibration the
-    model extends, to start from (`calibrate --start`)."""
-    m = catalog(plugins).model(model_or_spec) if isinstance(model_or_spec, str) else model_or_spec
-    if int(runs) < 1:
-        raise InputError(f"runs {runs}: must be at least 1")
-    settings = settings_for(optimizer, pop, gens)
-    first = None if start is None else nested_start(m, record, start.model.names, start.params, per_test)
-    fits = [fit_model(m, record, bounds=bounds, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings,
-                      per_test=per_test, start=first) for r in range(int(runs))]
-    best = min(fits, key=lambda f: f.of)
-    P = np.array([f.params for f in fits])
-    OF = np.array([f.of for f in fits])
-    stats = {"of_mean": OF.mean(), "of_sigma": OF.std(), "p_mean": P.mean(axis=0), "p_sigma": P.std(axis=0)}
-    settings_dict = {"runs": int(runs), "seed": seed, "optimizer": optimizer, "bounds": bounds,
-                     "optimizer_settings": asdict(settings), "plugins": list(plugins),
-                     "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
-    warnings = [w["message"] for w in fit_warnings(m, fits)]
-    ivals = None
-    if intervals:
-        ivals = fit_intervals(m, record, best.params, per_test, best.bounds, intervals, seed=[seed, 7], of=best.of)
-    return Calibration.from_fit(m, best, record, settings_dict, warnings, stats, ivals)
+def as_tests(records, device: str | None = None):
+    """One Record as it is; several (a list, tuple or Device) as the tests of
+    one device named ``device`` (default: the first test's name)."""
+    if isinstance(records, (Record, Device)):
+        return records if device is None or isinstance(records, Device) else Device(device, [records])
+    tests = list(records)
+    if not tests or not all(isinstance(r, Record) for r in tests):
+        raise InputError("records: give a Record, a Device or a list of Records")
+    return tests[0] if len(tests) == 1 and device is None else Device(device or tests[0].name, tests)
+
+
+def _model(model_or_spec, plugins=()):
+    return catalog(plugins).model(model_or_spec) if isinstance(model_or_spec, str) else model_or_spec
+
+
+def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
+              bounds="auto", device: str | None = None, per_test=(), start: Calibration | None = None,
+              intervals: int = REPLICATES, plugins=(), pop: int | None = None,
+              gens: int | None = None) -> Calibration:
+    """Calibrate a model on one record or on the tests of one device.
+
+    Parameters
+    ----------
+    records : Record, Device or list of Record
+        One test, or several tests of one device (fitted together).
+    model : str or Model
+        A spec: a law number and its effects, e.g. ``"2"`` or ``"9+asymmetry"``.
+    runs : int
+        Seeded optimizer runs; the best is kept, the others give the run statistics.
+    seed : int
+        The first run's seed (the same seeds as ``fvd-bridge calibrate --seed``).
+    optimizer : str
+        ``"local"`` (default), ``"local+de"``, ``"de"``, ``"ga"`` (the paper's GA) or ``"ga+polish"``.
+    bounds : str or dict
+        ``"auto"`` (from the record's peaks), ``"paper"`` (Table 4), or
+        ``{name: (lower, upper)}`` replacing the automatic bounds of those parameters.
+    device : str, optional
+        The device's name when ``records`` holds several tests.
+    per_test : list of str
+        Parameters fitted per test (e.g. ``["beta"]``); the others are shared.
+    start : Calibration, optional
+        A calibration that ``model`` extends, to start from.
+    intervals : int
+        Bootstrap replicates of the 95% intervals (0: none).
+    plugins : list of str
+        Plugin files with effects of your own.
+    pop, gens : int, optional
+        Optimizer settings (None: the defaults).
+
+    Returns
+    -------
+    Calibration
+        The best run, its intervals and its warnings (also issued as ``FitWarning``).
+    """
+    with api_errors():
+        m = _model(model, plugins)
+        if int(runs) < 1:
+            raise InputError(f"runs={runs}: must be at least 1")
+        record = as_tests(records, device)
+        mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
+        settings = settings_for(optimizer, pop, gens)
+        first = None if start is None else nested_start(m, record, start.model.names, start.values, per_test)
+        fits = [fit_model(m, record, bounds=mode, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings,
+                          per_test=per_test, start=first, overrides=overrides) for r in range(int(runs))]
+        best = min(fits, key=lambda f: f.of)
+        P = np.array([f.params for f in fits])
+        OF = np.array([f.of for f in fits])
+        stats = {"of_mean": OF.mean(), "of_sigma": OF.std(), "p_mean": P.mean(axis=0), "p_sigma": P.std(axis=0)}
+        settings_dict = {"runs": int(runs), "seed": seed, "optimizer": optimizer, "bounds": mode,
+                         **({"bound": {k: list(v) for k, v in overrides.items()}} if overrides else {}),
+                         "optimizer_settings": asdict(settings), "plugins": list(plugins),
+                         "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
+        notes = [in_api_words(w["message"]) for w in fit_warnings(m, fits)]
+        for note in notes:
+            warnings.warn(note, FitWarning, stacklevel=3)
+        ivals = None
+        if intervals:
+            ivals = fit_intervals(m, record, best.params, per_test, best.bounds, intervals, seed=[seed, 7],
+                                  of=best.of)
+        return Calibration.from_fit(m, best, record, settings_dict, notes, stats, ivals)
+
+
+def diagnose(records, model, seed: int = 0, device: str | None = None, plugins=(), progress=None):
+    """Fit ``model`` to ``records`` (one Record, or the tests of one device),
+    find where it fails and refit it with each physical effect it lacks.
+
+    Parameters
+    ----------
+    records : Record, Device or list of Record
+        The test(s).
+    model : str or Model
+        The base model, e.g. ``"2"``.
+    seed : int
+        The fits' seed.
+    device : str, optional
+        The device's name when ``records`` holds several tests.
+    plugins : list of str
+        Plugin files with effects of your own (candidates too).
+    progress : callable, optional
+        ``progress(message)`` receives one line per fit.
+
+    Returns
+    -------
+    Diagnosis
+        ``.candidates`` ranked, ``.best``, ``.verdict()``, ``.accept(effect=None)``
+        (the refit as a Calibration) and ``.ladder()``.
+    """
+    with api_errors():
+        return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
+                             catalog=catalog(plugins))
 
 
 def diagnose_record(record, model_or_spec, seed: int = 0, ladder: bool = False, plugins=(), progress=None):
-    """The ``diagnose`` verb: fit, where it fails, the ranked missing effects
-    (a Diagnosis); with ``ladder=True`` the ladder (a Ladder)."""
-    cat = catalog(plugins)
+    """The ``diagnose`` verb: a Diagnosis, or with ``ladder=True`` the ladder (a Ladder)."""
     if ladder:
-        return climb(record, model_or_spec, seed, progress=progress, catalog=cat)
-    return diagnose(record, model_or_spec, seed, progress=progress, catalog=cat)
+        with api_errors():
+            return climb(record, _model(model_or_spec, plugins), seed, progress=progress, catalog=catalog(plugins))
+    return diagnose(record, model_or_spec, seed, plugins=plugins, progress=progress)

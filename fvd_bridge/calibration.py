@@ -58,6 +58,41 @@ UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
 
 #: a motion counts as beyond the tested range from this share above its peaks
 TESTED_MARGIN = 0.05
+#: the report lists correlations of at least this magnitude (lmfit's default)
+REPORTED_CORRELATION = 0.1
+
+
+@dataclass(frozen=True)
+class FittedParameter:
+    """One calibrated parameter: ``value`` [``unit``]; ``stderr`` and the 95%
+    interval ``ci95`` (lower, upper) of the bootstrap (``fit.intervals``;
+    None: not computed); the search ``bounds``; ``per_test``: {test: value}
+    of a parameter fitted per test."""
+
+    name: str
+    value: float
+    unit: str
+    stderr: float | None = None
+    ci95: tuple | None = None
+    bounds: tuple | None = None
+    per_test: dict = field(default_factory=dict)
+
+    def __float__(self) -> float:
+        return float(self.value)
+
+    def text(self) -> str:
+        """'C = 45.06 +/- 0.05 (0.11%) kN/(mm/s)^alpha, 95% [44.96, 45.16]'."""
+        out = f"{self.name} = {self.value:.6g}"
+        if self.stderr is not None:
+            rel = f" ({abs(self.stderr / self.value):.2%})" if self.value else ""
+            out += f" +/- {self.stderr:.2g}{rel}"
+        out += f" {self.unit}" if self.unit != "-" else ""
+        if self.ci95 is not None:
+            out += f", 95% [{self.ci95[0]:.6g}, {self.ci95[1]:.6g}]"
+        return out
+
+    def __repr__(self) -> str:
+        return f"<FittedParameter {self.text()}>"
 
 
 @dataclass
@@ -67,7 +102,7 @@ class Calibration:
     and the fit warnings."""
 
     model: object  # fvd_bridge.model.Model
-    params: np.ndarray
+    values: np.ndarray  # the parameters in model order [the model's units]
     of: float
     bounds: np.ndarray | None = None
     record: dict = field(default_factory=dict)
@@ -78,6 +113,91 @@ class Calibration:
     tests: list = field(default_factory=list)  # per test: name, weight, of, range, record, parameters
     device: str = ""
     intervals: dict = field(default_factory=dict)  # fit.intervals.Intervals.as_dict() ({} : none)
+    records: list = field(default_factory=list, repr=False, compare=False)  # the Records fitted (not saved)
+
+    def __repr__(self) -> str:
+        return f"<Calibration {self.spec} of {self.device or self.record.get('name', '?')}: OF {self.of:.4g}>"
+
+    @property
+    def params(self) -> dict:
+        """{name: FittedParameter}: value, unit, stderr, ci95, bounds, per-test values."""
+        given = self.intervals.get("parameters") or {}
+        bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
+        out = {}
+        for name, unit, value, (lo, hi) in zip(self.model.names, self.model.units, self.values, bounds):
+            entry = given.get(name) or {}
+            per_test = {t["name"]: t["parameters"][name] for t in self.tests if name in (t.get("parameters") or {})}
+            out[name] = FittedParameter(name, float(value), unit, entry.get("stderr"),
+                                        tuple(entry["ci95"]) if entry.get("ci95") else None,
+                                        (_num(lo), _num(hi)), per_test)
+        return out
+
+    @property
+    def correlation(self) -> dict | None:
+        """{a: {b: r}}: the parameters' correlation over the bootstrap replicates (None: no intervals)."""
+        given = self.intervals.get("correlation") if self.intervals else None
+        if not given:
+            return None
+        names, matrix = given["names"], np.asarray(given["matrix"], dtype=float)
+        return {a: {b: float(matrix[i, j]) for j, b in enumerate(names)} for i, a in enumerate(names)}
+
+    def report(self, min_correlation: float = REPORTED_CORRELATION) -> str:
+        """The fit report, as text (sections as lmfit's fit_report)."""
+        law = self.model.law
+        n = sum((t.get("record") or {}).get("samples") or 0 for t in self.tests) or self.record.get("samples")
+        lines = ["[[Model]]", f"    {self.spec}: law {law.key} ({law.name}), {law.equation}"]
+        lines += [f"    + {e.name}: {e.equation}" for e in self.model.effects]
+        lines += ["[[Fit Statistics]]",
+                  f"    device:        {self.device or self.record.get('name')} ({len(self.tests) or 1} test(s), "
+                  f"{n} samples)",
+                  f"    OF (eq. 18):   {self.of:.6g}"]
+        lines += [f"    OF {t['name']}: {t['of']:.6g}" for t in self.tests if len(self.tests) > 1]
+        if self.runs.get("of_sigma") is not None and self.settings.get("runs", 1) > 1:
+            lines.append(f"    runs:          {self.settings['runs']} (OF mean {self.runs['of_mean']:.6g}, "
+                         f"sigma {self.runs['of_sigma']:.2g})")
+        if self.settings.get("optimizer"):
+            lines.append(f"    optimizer:     {self.settings['optimizer']}, seed {self.settings.get('seed')}")
+        lines += [f"    {self.tested_text()}", "[[Variables]]"]
+        for p in self.params.values():
+            bounds = "" if p.bounds is None or p.bounds[0] is None else f"  (bounds [{p.bounds[0]:.4g}, " \
+                                                                        f"{p.bounds[1]:.4g}])"
+            lines.append(f"    {p.text()}{bounds}")
+            lines += [f"        {test}: {v:.6g}" for test, v in p.per_test.items()]
+        if self.derived():
+            lines.append("[[Derived]]")
+            lines += [f"    {name} = {value:.6g} {unit}" for name, (value, unit) in self.derived().items()]
+        if not self.intervals:
+            lines.append("    (no intervals: calibrate with intervals > 0)")
+        lines += [f"    not identified: {line}" for line in self.intervals.get("not_identified") or []]
+        corr = self.correlation
+        if corr:
+            names = list(corr)
+            pairs = sorted(((corr[a][b], a, b) for i, a in enumerate(names) for b in names[i + 1:]
+                            if abs(corr[a][b]) >= min_correlation), key=lambda x: -abs(x[0]))
+            lines.append(f"[[Correlations]] (unreported correlations are < {min_correlation:.3f})")
+            lines += [f"    C({a}, {b}) = {r:+.4f}" for r, a, b in pairs]
+        if self.warnings:
+            lines.append("[[Warnings]]")
+            lines += [f"    {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """The fit report as an HTML table (a notebook shows it)."""
+        from .report.html import calibration_table
+
+        return calibration_table(self)
+
+    def plot(self, ax=None, record=None, x: str = "d"):
+        """Measured and model force against displacement (``x='d'``) or
+        velocity (``x='v'``) of ``record`` (default: the first test fitted)
+        on ``ax`` (None: a new figure); returns the Axes."""
+        from .plots.record import loop
+
+        if record is None and not self.records:
+            raise InputError("Calibration.plot: give record= (a loaded calibration keeps no record)")
+        record = record if record is not None else self.records[0]
+        return loop(record, self.force(record, test=record.name if len(self.tests) > 1 else None), ax=ax, x=x,
+                    title=f"{self.spec} on {record.name}")
 
     @property
     def spec(self) -> str:
@@ -85,11 +205,11 @@ class Calibration:
 
     def named(self) -> dict:
         """{parameter name: value} in the model's units."""
-        return dict(zip(self.model.names, map(float, self.params)))
+        return dict(zip(self.model.names, map(float, self.values)))
 
     def derived(self) -> dict:
         """{name: (value, unit)}: law 8's slip force mu*N [kN]."""
-        return self.model.derived(self.params)
+        return self.model.derived(self.values)
 
     @property
     def tested(self) -> dict:
@@ -155,15 +275,24 @@ class Calibration:
 
         return self.provenance_lines() + solving_advice(export, self.solving(export))
 
-    def to_opensees(self, tag: int = 1, units=None, lang: str = "py") -> str:
-        """The damper as an OpenSeesPy ('py') or Tcl ('tcl') script defining
-        ``define_damper(ops, tag)`` with every value in ``units`` (the OpenSees
-        model's FORCE,LENGTH,TIME, e.g. 'kN,m,s'; default kN, mm, s), as
-        ``fvd-bridge export opensees`` writes it."""
-        from .export.opensees import opensees_export, to_script
+    def to_opensees(self, tag: int = 1, units=None):
+        """The damper as OpenSees commands (``export.opensees.OpenSeesCommands``:
+        a list of (ops function, *args) with ``.apply(ops)`` and
+        ``.to_script('py' | 'tcl')``, the script ``fvd-bridge export
+        opensees`` writes), uniaxial material ``tag``, every value in
+        ``units`` (the OpenSees model's FORCE,LENGTH,TIME: 'kN,m,s' or
+        ('kN', 'm', 's'); default kN, mm, s)."""
+        from .export.opensees import OpenSeesCommands, opensees_export
 
         export = opensees_export(self.model, self.named(), tag, units=units)
-        return to_script(export, lang, self.export_lines(export))
+        return OpenSeesCommands(export, self.export_lines(export))
+
+    def to_fmu(self, path, h_max: float | None = None) -> str:
+        """Write the damper as an FMI 3.0 co-simulation FMU at ``path``
+        (``export.fmu.build_fmu``; ``h_max`` [s] its largest sub-step); returns the path."""
+        from .export.fmu import build_fmu
+
+        return build_fmu(self, path, h_max)
 
     def params_for(self, test: str) -> np.ndarray:
         """The parameter vector on one test (parameters fitted per test take that test's value)."""
@@ -176,7 +305,7 @@ class Calibration:
     def force(self, record, substeps: int = 1, test: str | None = None) -> np.ndarray:
         """The calibrated model's force [kN] on ``record`` (n_t,), with the
         parameters of test ``test`` (None: the file's values, the first test's)."""
-        p = self.params if test is None else self.params_for(test)
+        p = self.values if test is None else self.values_for(test)
         return self.model.force(record, p[None, :], substeps)[0]
 
     @classmethod
@@ -204,14 +333,14 @@ class Calibration:
         return cls(model, np.asarray(fit.params, dtype=float)[:n], float(fit.of),
                    np.asarray(fit.bounds, dtype=float)[:n], record_provenance(device.tests[0]),
                    dict(settings or {}), list(warnings), runs, None, tests, device.name,
-                   intervals.as_dict() if intervals is not None else {})
+                   intervals.as_dict() if intervals is not None else {}, list(device.tests))
 
     def to_dict(self) -> dict:
         """The schema-2 mapping (see the module docstring)."""
         law = self.model.law
-        bounds = self.bounds if self.bounds is not None else np.full((len(self.params), 2), np.nan)
-        p_mean = self.runs.get("p_mean", self.params)
-        p_sigma = self.runs.get("p_sigma", np.zeros(len(self.params)))
+        bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
+        p_mean = self.runs.get("p_mean", self.values)
+        p_sigma = self.runs.get("p_sigma", np.zeros(len(self.values)))
         derived_info = {d.name: d.description for d in law.derived}
         return {
             "schema_version": SCHEMA_VERSION,
@@ -227,7 +356,7 @@ class Calibration:
                     **self._interval(n),
                     **({"per_test": {t["name"]: t["parameters"][n] for t in self.tests}}
                        if any(n in (t.get("parameters") or {}) for t in self.tests) else {})}
-                for n, u, v, (lo, hi), m, s in zip(self.model.names, self.model.units, self.params, bounds,
+                for n, u, v, (lo, hi), m, s in zip(self.model.names, self.model.units, self.values, bounds,
                                                    p_mean, p_sigma)},
             "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
                                **{k: v for k, v in (self.intervals.get("derived") or {}).get(name, {}).items()

@@ -10,6 +10,11 @@ class InputError(Exception):
     """
 
 
+class FitWarning(UserWarning):
+    """A fit ended but deserves a look: a parameter on its bound, runs that
+    disagree, a parameter that is not identified."""
+
+
 def positive(what: str, value) -> float:
     """``value`` as a finite float > 0, else an InputError naming ``what``."""
     try:

@@ -27,12 +27,18 @@ SYSTEM = {"F": "kN", "d": "mm", "t": "s"}
 
 
 def unit_system(text, where: str = "--units") -> dict:
-    """'kN,m,s' (FORCE,LENGTH,TIME) -> {'F': 'kN', 'd': 'm', 't': 's'}; a dict
-    is checked as it is; None is the package's kN, mm, s."""
+    """'kN,m,s' (FORCE,LENGTH,TIME) -> {'F': 'kN', 'd': 'm', 't': 's'}; a
+    tuple ('kN', 'm', 's') and a dict {F, d, t} are checked as they are;
+    None is the package's kN, mm, s."""
     if text is None:
         return dict(SYSTEM)
     if isinstance(text, dict):
+        missing = [k for k in "Fdt" if k not in text]
+        if missing:
+            raise InputError(f"{where} {text}: no unit for '{missing[0]}' (give F, d and t)")
         parts = [text[k] for k in "Fdt"]
+    elif isinstance(text, (tuple, list)):
+        parts = [str(p) for p in text]
     elif "=" in str(text):  # F=kN,d=m[,t=s]: the package's unit where one is not given
         given = dict(item.split("=", 1) for item in str(text).replace(" ", "").split(",") if "=" in item)
         unknown = sorted(set(given) - set("Fdt"))

@@ -145,7 +145,7 @@ def test_calibration_file_reproduces_its_of(two_devices, tmp_path):
     path = out / "params" / "dev_a" / "law9.yaml"
     cal = Calibration.load(str(path))
     rec = read_record(two_devices[0])
-    F = cal.model.force(rec, cal.params[None, :])[0]
+    F = cal.model.force(rec, cal.values[None, :])[0]
     assert objective(rec.F, F, rec.t) == pytest.approx(cal.of, rel=1e-9)
     data = yaml.safe_load(open(path))
     data["parameters"]["alpha"]["unit"] = "1/m"

@@ -54,7 +54,7 @@ def test_tests_of_one_device_are_fitted_together(three_tests, tmp_path, capsys):
     assert cal.named()["C"] == pytest.approx(40.0, rel=0.03) and cal.named()["alpha"] == pytest.approx(0.3, abs=0.01)
     # each test's OF is eq. 18 of the one parameter set on that test; the file's OF their mean
     for test, entry in zip(three_tests, raw["tests"]):
-        assert entry["of"] == pytest.approx(evaluate_params(cal.model, test, cal.params), rel=1e-9)
+        assert entry["of"] == pytest.approx(evaluate_params(cal.model, test, cal.values), rel=1e-9)
         assert f"OF {test.name}" in printed
     assert raw["of"] == pytest.approx(np.mean([t["of"] for t in raw["tests"]]), rel=1e-9)
     # the tested range is the envelope of the tests: 30 mm, 450 mm/s, the tests' frequencies
@@ -211,9 +211,9 @@ def test_a_joint_fit_predicts_the_earthquake_test(shared_dir, tmp_path):
     spec = "2+series_stiffness+friction"
     joint = calibrate(Device("fvd", tests), spec, runs=1, intervals=0)
     direct = calibrate(eq, spec, runs=1, intervals=0)
-    predicted = evaluate_params(joint.model, eq, joint.params)
+    predicted = evaluate_params(joint.model, eq, joint.values)
     assert predicted <= 1.15 * direct.of
-    singles = [evaluate_params(joint.model, eq, calibrate(test, spec, runs=1, intervals=0).params) for test in tests]
+    singles = [evaluate_params(joint.model, eq, calibrate(test, spec, runs=1, intervals=0).values) for test in tests]
     assert predicted < min(singles), (predicted, singles)
     assert joint.named()["series_stiffness.Ks"] == pytest.approx(120.0, rel=0.10)
     assert joint.named()["friction.Ff"] == pytest.approx(12.0, rel=0.10)

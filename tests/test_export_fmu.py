@@ -102,7 +102,7 @@ def test_sub_steps_follow_h_max(spec, h_max, tmp_path):
     n = fmu_export.substeps_of(record.dt, h_max)
     assert n == round(record.dt / h_max) > 1
     assert validate(path, cal, record, inputs="dva@end") <= MIRROR_OF
-    F_one = cal.model.force(record, cal.params[None, :])[0]
+    F_one = cal.model.force(record, cal.values[None, :])[0]
     assert objective(F_one, simulate(path, record, inputs="dva", at_step_end=True)["F"], record.t) > 10 * MIRROR_OF
 
 
@@ -121,7 +121,7 @@ def test_a_standard_master_gets_the_force_without_a_lag(spec, built, tmp_path):
     cal, path, record, _ = built(spec)
     signal = np.zeros(record.n, dtype=[("time", float), ("d", float)])
     signal["time"], signal["d"] = record.t, record.d
-    F_ref = cal.model.force(record, cal.params[None, :])[0]
+    F_ref = cal.model.force(record, cal.values[None, :])[0]
     F = simulate_fmu(path, stop_time=record.t[-1], output_interval=record.dt, input=signal, output=["F"])["F"]
     of = objective(F_ref, F, record.t)
     assert of <= 0.005
@@ -202,7 +202,7 @@ def test_derived_velocity_is_second_order_at_variable_steps(built, tmp_path):
     """Law 1 (F = C v) shows the velocity the FMU derives from d alone: exact
     for a quadratic motion from the third sample on, whatever the steps."""
     cal, path, _, _ = built("1")
-    C = cal.params[0]
+    C = cal.values[0]
     run = Slave(path, tmp_path)
     run.initialize(0.0)
     t = np.cumsum([0.0, 1e-3, 2.5e-3, 0.7e-3, 4e-3, 1e-3, 3e-3])

@@ -77,7 +77,7 @@ def test_the_script_names_what_the_frame_runs(law2_cal):
     """The exported script keeps the law's own Viscous and says which
     ViscousDamper fvd-bridge frame runs in its place."""
     cal, _ = law2_cal
-    script = cal.to_opensees(tag=12)
+    script = cal.to_opensees(tag=12).to_script()
     assert "ops.uniaxialMaterial('Viscous', tag, " in script and "'ViscousDamper'" not in script
     Ks = cal.named()["C"] * cal.tested["v"] ** cal.named()["alpha"] / (SOLVING_DEFLECTION * cal.tested["d"])
     line = next(x for x in script.splitlines() if x.startswith("# frame analyses"))

@@ -182,7 +182,7 @@ def campaign_settings(args) -> CampaignSettings:
     start = None
     if args.start:
         given = Calibration.load(args.start, cat)
-        start = (given.spec, tuple(given.model.names), tuple(float(x) for x in given.params))
+        start = (given.spec, tuple(given.model.names), tuple(float(x) for x in given.values))
         if not any(cat.model(s).law is given.model.law and set(given.model.effect_names) <= set(cat.model(s).effect_names)
                    for s in specs):
             raise InputError(f"--start {args.start}: no model of --laws {args.laws} extends its model {given.spec} "

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..catalog import catalog as default_catalog
 from .. import timing
+from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..records.device import as_device
 from ..fit.de import DESettings
@@ -79,6 +80,43 @@ class Diagnosis:
     base_history: list = field(default_factory=list)  # [(how, OF)] of the base fit's rounds
     tests: list = field(default_factory=list)  # [(test name, OF)] of a device's tests
     focus: object = None  # the Record analysed (a device: the test the base misses most)
+    inputs: dict = field(default_factory=dict, repr=False)  # record, seed, settings, catalog: ladder() and accept()
+
+    def __repr__(self) -> str:
+        return f"<Diagnosis {self.spec} on {self.record}: OF {self.of:.4g}; {self.verdict()}>"
+
+    def _repr_html_(self) -> str:
+        from ..report.html import diagnosis_table
+
+        return diagnosis_table(self)
+
+    def candidate(self, effect: str) -> Candidate:
+        """The candidate that adds ``effect``."""
+        for c in self.candidates:
+            if c.effect == effect:
+                return c
+        raise InputError(f"effect '{effect}': not a candidate of this diagnosis "
+                         f"(candidates: {', '.join(c.effect for c in self.candidates) or 'none'})")
+
+    def accept(self, effect: str | None = None):
+        """The Calibration of the model with ``effect`` added (None: the best
+        candidate), as diagnose refitted it: no second calibration."""
+        from ..calibration import Calibration
+
+        if effect is None and self.best is None:
+            raise InputError(f"diagnosis of {self.spec}: no candidate helps beyond noise; "
+                             f"accept(effect=...) takes one by name")
+        c = self.best if effect is None else self.candidate(effect)
+        settings = {"source": "diagnose", "seed": self.inputs.get("seed"), "optimizer": DEFAULT_OPTIMIZER}
+        warnings = [] if c.significant else [f"{c.effect} was not credited by diagnose: {c.reason}"]
+        return Calibration.from_fit(c.model, c.fit, self.inputs["record"], settings, warnings)
+
+    def ladder(self, max_rungs: int | None = None, progress=None):
+        """The ladder from this diagnosis' model on the same record (``climb``)."""
+        from .ladder import climb
+
+        i = self.inputs
+        return climb(i["record"], self.model, i["seed"], i["settings"], max_rungs, progress, i["catalog"])
 
     @property
     def spec(self) -> str:
@@ -230,4 +268,5 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
     diag.parent = parent if isinstance(parent, tuple) else None
     diag.wall_s = time.perf_counter() - t0
+    diag.inputs = {"record": record, "seed": seed, "settings": settings, "catalog": catalog}
     return diag

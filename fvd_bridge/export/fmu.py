@@ -326,7 +326,7 @@ def _annotation(calibration) -> ET.Element:
     ET.SubElement(cal, "Law", number=str(law.number), name=law.name, equation=law.equation, source=law.source)
     for e in model.effects:
         ET.SubElement(cal, "Effect", name=e.name, equation=e.equation)
-    for name, unit, x in zip(model.names, model.units, calibration.params):
+    for name, unit, x in zip(model.names, model.units, calibration.values):
         ET.SubElement(cal, "Parameter", name=name, unit=unit, value=repr(float(x)))
     rec = calibration.record or {}
     if rec:

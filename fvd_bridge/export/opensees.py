@@ -275,6 +275,31 @@ def solving_advice(export: Export, solved: Export) -> list[str]:
 DEFINE = "define_damper"
 
 
+class OpenSeesCommands(list):
+    """A damper's OpenSees commands, (ops function name, *args) each, as a
+    list; ``apply(ops)`` defines them in an OpenSees module, ``to_script``
+    writes the script ``fvd-bridge export opensees`` writes.  ``export``:
+    the Export; ``comments``: the script header's lines of the calibration."""
+
+    def __init__(self, export: Export, comments=()):
+        super().__init__(export.commands)
+        self.export, self.comments = export, tuple(comments)
+
+    @property
+    def tag(self) -> int:
+        """The damper's uniaxial material tag."""
+        return self.export.tag
+
+    def apply(self, ops) -> int:
+        """Define the damper in ``ops`` (openseespy.opensees); returns its tag."""
+        apply(self.export.commands, ops)
+        return self.export.tag
+
+    def to_script(self, lang: str = "py") -> str:
+        """The OpenSeesPy ('py') or Tcl ('tcl') script defining ``define_damper(ops, tag)``."""
+        return to_script(self.export, lang, self.comments)
+
+
 def to_script(commands, lang: str = "py", comments=()) -> str:
     """An Export as an OpenSeesPy ('py') or Tcl ('tcl') script defining
     ``define_damper(ops, tag)`` (``opensees_commands.define``: importable,

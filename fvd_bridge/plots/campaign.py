@@ -11,26 +11,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .record import loop  # noqa: E402
 from .save import save  # noqa: E402
 
 
-def loops(record, F_model: np.ndarray, title: str, path: str) -> str:
-    """Measured vs model: F-d and F-v loops and F-t history."""
-    fig, ax = plt.subplots(1, 3, figsize=(14, 4), layout="constrained")
-    for a, x, lab in ((ax[0], record.d, "displacement d [mm]"), (ax[1], record.v, "velocity v [mm/s]")):
-        a.plot(x, record.F, ".", ms=1.5, color="tab:blue", label="measured")
-        a.plot(x, F_model, "-", lw=0.8, color="tab:red", label="model")
-        a.set_xlabel(lab)
-        a.set_ylabel("force F [kN]")
-        a.grid(alpha=0.3)
-    ax[2].plot(record.t, record.F, ".", ms=1.5, color="tab:blue", label="measured")
-    ax[2].plot(record.t, F_model, "-", lw=0.8, color="tab:red", label="model")
-    ax[2].set_xlabel("time t [s]")
-    ax[2].set_ylabel("force F [kN]")
-    ax[2].grid(alpha=0.3)
-    ax[2].legend(loc="upper right")
+def loops(record, F_model: np.ndarray, title: str, path: str | None = None, fig=None):
+    """Measured vs model: F-d and F-v loops and F-t history, on ``fig``
+    (None: a new figure); written to ``path`` (and closed) when given.
+    Returns the Figure, or the path written."""
+    fig = fig or plt.figure(figsize=(14, 4), layout="constrained")
+    for ax, x in zip(fig.subplots(1, 3), "dvt"):
+        loop(record, F_model, ax=ax, x=x)
     fig.suptitle(title)
-    return save(fig, path)
+    return save(fig, path) if path else fig
 
 
 def of_bars(specs, devices, mean: np.ndarray, sigma: np.ndarray, path: str) -> str:

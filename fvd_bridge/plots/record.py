@@ -24,6 +24,35 @@ def check_target(path: str) -> str:
     return fmt
 
 
+#: the measured samples as dots, the model as a line
+MEASURED = {"ls": "none", "marker": ".", "ms": 1.5, "color": "tab:blue", "label": "measured"}
+MODEL = {"ls": "-", "lw": 0.8, "color": "tab:red", "label": "model"}
+AXIS_LABELS = {"d": "displacement d [mm]", "v": "velocity v [mm/s]", "t": "time t [s]"}
+
+
+def loop(rec: Record, F_model=None, ax=None, x: str = "d", title: str | None = None):
+    """Measured force and, when given, the model's F_model [kN] against
+    ``x`` ('d', 'v' or 't') of ``rec`` on ``ax`` (None: a new figure's);
+    returns the Axes, left open."""
+    if x not in AXIS_LABELS:
+        raise InputError(f"x='{x}': expected one of {', '.join(AXIS_LABELS)}")
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
+    xs = getattr(rec, x)
+    ax.plot(xs, rec.F, **MEASURED)
+    if F_model is not None:
+        ax.plot(xs, F_model, **MODEL)
+    ax.set_xlabel(AXIS_LABELS[x])
+    ax.set_ylabel("force F [kN]")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
 def plot_record(rec: Record, path: str, title: str | None = None) -> str:
     """Draw the 2x2 quick-look of ``rec`` and write it to ``path`` atomically.
 

@@ -17,7 +17,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
-from ..units import CANONICAL, factor
+from ..units import CANONICAL, factor, unit_system
 from . import validate
 from .cycles import displacement_noise
 from .csvfile import read_csv
@@ -27,7 +27,7 @@ from .raw import RawColumns
 from .record import Record
 from .velocity import acceleration_from_velocity, check_settings, derive
 
-__all__ = ["ReadOptions", "RecordWarning", "parse_mapping", "read_record"]
+__all__ = ["ReadOptions", "RecordWarning", "parse_mapping", "read_record", "record_from_arrays"]
 
 
 class RecordWarning(UserWarning):
@@ -48,6 +48,36 @@ def read_record(path: str, opts: ReadOptions | None = None, name: str | None = N
     rec.provenance["reading"] = given.as_dict()  # read again as it was read (export --check, compare)
     for note in rec.warnings:
         warnings.warn(note, RecordWarning, stacklevel=2)
+    return rec
+
+
+def record_from_arrays(t, d, F, v=None, units=None, name: str = "record") -> Record:
+    """A Record from arrays, read as a file is: t [s], d, F (and a measured
+    v) in ``units`` (FORCE,LENGTH,TIME: 'N,m,s', ('N', 'm', 's') or {F, d,
+    t}; None: kN, mm, s), converted, checked and the velocity derived from d
+    (``Record.from_arrays``).  Bad values are input errors naming the array
+    and its index + 1 as the row."""
+    system = unit_system(units, "units")
+    where = f"Record.from_arrays({name})"
+    data = {"t": t, "d": d, "F": F, **({} if v is None else {"v": v})}
+    arrays = {}
+    for key, x in data.items():
+        try:
+            arrays[key] = np.asarray(x, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise InputError(f"{where}: {key} is not an array of numbers") from None
+    sizes = {k: x.size for k, x in arrays.items()}
+    if len(set(sizes.values())) != 1:
+        raise InputError(f"{where}: t, d, F{', v' if v is not None else ''} need one length, got "
+                         + ", ".join(f"{k} {n}" for k, n in sizes.items()))
+    units_of = {"t": system["t"], "d": system["d"], "F": system["F"]}
+    if v is not None:
+        units_of["v"] = f"{system['d']}/{system['t']}"
+    raw = RawColumns(arrays, np.arange(1, sizes["t"] + 1), {k: k for k in arrays})
+    rec = _assemble(where, raw, ReadOptions(units=units_of), name)
+    rec.provenance.update(file=None, format="arrays")
+    for note in rec.warnings:
+        warnings.warn(note, RecordWarning, stacklevel=3)
     return rec
 
 

@@ -56,6 +56,25 @@ class Record:
         if len(set(sizes.values())) != 1 or self.t.size < 2:
             raise ValueError(f"Record '{self.name}': fields need one common length >= 2, got {sizes}")
 
+    @classmethod
+    def from_arrays(cls, t, d, F, v=None, units=None, name: str = "record") -> "Record":
+        """A record from arrays, read as a file is (``records.readers.record_from_arrays``).
+
+        Parameters
+        ----------
+        t, d, F : array_like
+            Time, displacement and force, in ``units``.
+        v : array_like, optional
+            A measured velocity; None (default): derived from d, as on reading a file.
+        units : str, tuple or dict, optional
+            FORCE,LENGTH,TIME, e.g. ``("N", "m", "s")`` or ``"kip,in,s"``; None: kN, mm, s.
+        name : str
+            The record's name in reports and exports.
+        """
+        from .readers import record_from_arrays
+
+        return record_from_arrays(t, d, F, v, units, name)
+
     @property
     def dt(self) -> float:
         """Sampling step [s]."""
