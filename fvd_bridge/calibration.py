@@ -305,7 +305,7 @@ class Calibration:
     def force(self, record, substeps: int = 1, test: str | None = None) -> np.ndarray:
         """The calibrated model's force [kN] on ``record`` (n_t,), with the
         parameters of test ``test`` (None: the file's values, the first test's)."""
-        p = self.values if test is None else self.values_for(test)
+        p = self.values if test is None else self.params_for(test)
         return self.model.force(record, p[None, :], substeps)[0]
 
     @classmethod
