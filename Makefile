@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 export NUMBA_CACHE_DIR := $(CURDIR)/.numba_cache
 export MPLBACKEND := Agg
 
-.PHONY: demo test test-slow bench sysdeps clean
+.PHONY: demo test test-slow bench docs sysdeps clean
 
 # openseespy needs the Debian packages libblas3 and liblapack3; the FMU
 # export compiles its binary with gcc and cmake.
@@ -39,6 +39,10 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not slow"
+
+# the documentation site (MkDocs, warnings are errors) into site/
+docs: $(STAMP)
+	$(BIN)/python -m mkdocs build --strict --site-dir site
 
 # the long end-to-end checks (.ci/run runs them after make test)
 test-slow: $(STAMP)

@@ -201,6 +201,7 @@ class Calibration:
 
     @property
     def spec(self) -> str:
+        """The model's spec: its law number and effects, e.g. '2+friction'."""
         return self.model.spec
 
     def named(self) -> dict:
@@ -214,7 +215,7 @@ class Calibration:
     @property
     def tested(self) -> dict:
         """The tested range: peak stroke d [mm], velocity v [mm/s], force F [kN]
-        over every test, and the tests' frequencies f [lo, hi] [Hz] (None: unknown)."""
+        over every test, and the tests' frequencies f = (lowest, highest) in Hz (None: unknown)."""
         ranges = [t.get("range") or {} for t in self.tests]
         peaks = (self.record or {}).get("peaks") or {}
         out = {k: max([r[k] for r in ranges if r.get(k)] + [peaks.get(k) or 0.0]) or None for k in ("d", "v")}

@@ -49,6 +49,7 @@ class Model:
 
     @property
     def effect_names(self) -> list[str]:
+        """The effects' names, in the model's order."""
         return [e.name for e in self.effects]
 
     @property
@@ -66,9 +67,11 @@ class Model:
 
     @property
     def units(self) -> list[str]:
+        """Each parameter's unit (kN, mm, s), in the model's order."""
         return [p.unit for p in self.parameters]
 
     def has(self, effect_name: str) -> bool:
+        """Whether the model carries the named effect."""
         return effect_name in self.effect_names
 
     def refusal(self, effect) -> str:

@@ -192,14 +192,14 @@ def test_golden_output(number):
     assert np.max(np.abs(F - F_golden)) <= 1e-9 * np.max(np.abs(F_golden))
 
 
-def test_readme_table_of_laws_is_the_registrys():
-    """The README's table of laws is `fvd-bridge laws --markdown`, generated
+def test_the_guides_table_of_laws_is_the_registrys():
+    """The guide's table of laws is `fvd-bridge laws --markdown`, generated
     from the registry: a law added there shows up in the docs' table."""
     from pathlib import Path
 
     from fvd_bridge.commands.laws import markdown_table
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "laws.md").read_text()
     table = markdown_table()
     assert table in readme
     assert all(f"| {n} {law.name} |" in table for n, law in LAWS.items())

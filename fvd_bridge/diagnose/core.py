@@ -120,18 +120,22 @@ class Diagnosis:
 
     @property
     def spec(self) -> str:
+        """The diagnosed model's spec."""
         return self.model.spec
 
     @property
     def of(self) -> float:
+        """The model's OF (eq. 18) on the record."""
         return float(self.fit.of)
 
     @property
     def floor(self) -> float:
+        """The OF that the record's noise alone gives (the noise floor)."""
         return float(self.judge.floor)
 
     @property
     def at_floor(self) -> bool:
+        """Whether the model's OF is at the noise floor: nothing left to explain."""
         return self.judge.at_floor(self.of)
 
     @property
@@ -141,6 +145,7 @@ class Diagnosis:
 
     @property
     def best(self) -> Candidate | None:
+        """The candidate that helps most beyond noise (None: none does)."""
         s = self.suggestions
         return s[0] if s else None
 
@@ -149,6 +154,7 @@ class Diagnosis:
         return self.fit.on_bound(tol)
 
     def params(self) -> dict:
+        """{name: value} of the diagnosed model's fit."""
         return {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}
 
     def as_dict(self) -> dict:

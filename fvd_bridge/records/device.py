@@ -43,6 +43,7 @@ class Device:
 
     @property
     def test_names(self) -> list[str]:
+        """The tests' names, in order."""
         return [t.name for t in self.tests]
 
     @property

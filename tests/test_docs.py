@@ -1,0 +1,67 @@
+"""The documentation: the site builds with warnings as errors, every public
+name has a docstring, the entry points document every parameter
+(numpydoc), and the README stays a newcomer's page."""
+
+from __future__ import annotations
+
+import inspect
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import fvd_bridge as fb
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def public_names():
+    """Every public name of ``fvd_bridge`` and the public members of its classes."""
+    for name in fb.__all__:
+        if name.startswith("__"):
+            continue
+        obj = getattr(fb, name)
+        yield name, obj
+        if inspect.isclass(obj):
+            for member, value in vars(obj).items():
+                if member.startswith("_"):
+                    continue
+                if isinstance(value, property):
+                    yield f"{name}.{member}", value.fget
+                elif callable(value) or isinstance(value, (classmethod, staticmethod)):
+                    yield f"{name}.{member}", getattr(value, "__func__", value)
+
+
+def test_every_public_name_has_a_docstring():
+    lacking = [name for name, obj in public_names() if not inspect.getdoc(obj)]
+    assert not lacking, f"no docstring: {', '.join(lacking)}"
+
+
+@pytest.mark.parametrize("func", [fb.calibrate, fb.diagnose, fb.Record.from_arrays])
+def test_the_entry_points_document_every_parameter(func):
+    doc = inspect.getdoc(func)
+    assert "Parameters\n----------" in doc
+    listed = doc.split("Parameters\n----------", 1)[1]
+    for name in inspect.signature(func).parameters:
+        if name not in ("self", "cls"):
+            assert f"\n{name}" in "\n" + listed or f", {name}" in listed, f"{func.__qualname__}: {name}"
+
+
+def test_the_readme_is_a_newcomers_page():
+    lines = (REPO / "README.md").read_text().splitlines()
+    assert len(lines) <= 200
+    assert "make demo" in "\n".join(lines) and "make test" in "\n".join(lines)
+
+
+def test_the_site_builds_with_warnings_as_errors(tmp_path):
+    pytest.importorskip("mkdocs")
+    res = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path / "site")],
+                         cwd=REPO, capture_output=True, text=True, timeout=300,
+                         env={**__import__("os").environ, "NO_MKDOCS_2_WARNING": "1"})
+    assert res.returncode == 0, res.stderr[-3000:]
+    api = (tmp_path / "site" / "api" / "index.html").read_text()
+    for name in ("calibrate", "diagnose", "from_arrays", "to_opensees", "to_fmu"):
+        assert name in api
+    index = (tmp_path / "site" / "index.html").read_text()
+    assert "fonts.googleapis" not in index  # readable offline
