@@ -9,7 +9,8 @@ export MPLBACKEND := Agg
 .PHONY: demo test test-slow bench docs sysdeps clean
 
 # openseespy needs the Debian packages libblas3 and liblapack3; the FMU
-# export compiles its binary with gcc and cmake.
+# export compiles its binary with gcc and cmake; the report's test renders
+# the page in Chromium.
 sysdeps:
 	@libs="$$( (ldconfig -p || /sbin/ldconfig -p) 2>/dev/null)"; missing=""; \
 	echo "$$libs" | grep -q 'libblas.so.3' || missing="$$missing libblas3"; \
@@ -17,6 +18,7 @@ sysdeps:
 	command -v gcc >/dev/null || missing="$$missing gcc libc6-dev"; \
 	command -v cmake >/dev/null || missing="$$missing cmake"; \
 	command -v make >/dev/null || missing="$$missing make"; \
+	command -v chromium >/dev/null || missing="$$missing chromium"; \
 	if [ -z "$$missing" ]; then :; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
 	  echo "installing$$missing"; \

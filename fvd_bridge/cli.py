@@ -20,7 +20,7 @@ from . import __version__, timing
 from .errors import InputError
 
 VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",
-         "demo")
+         "report", "demo")
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:

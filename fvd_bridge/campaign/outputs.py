@@ -25,6 +25,7 @@ from ..io.staging import staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
 from . import stats
 from .checks import fit_warnings
+from ..report.page import build_report
 from .executors import Processes
 
 #: schema of table_A7.csv, robustness.csv, pareto.csv and summary.json
@@ -123,6 +124,7 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True, ex
             _figures(stage, records, summary, cs)
         if extra is not None:
             extra(stage, summary)
+        build_report(stage, title=f"fvd_bridge report: {os.path.basename(os.path.abspath(out))}")
     return summary
 
 

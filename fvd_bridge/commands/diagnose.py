@@ -173,4 +173,8 @@ def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
                 figs.where(diag.focus, diag, os.path.join(stage, f"{base}_where_final.png"))
                 figs.ladder(lad, os.path.join(stage, f"{base}_ladder.png"))
                 written += [f"{base}_where_final.png", f"{base}_ladder.png"]
+        from ..report.page import build_report
+
+        build_report(stage, title=f"fvd_bridge diagnosis: {os.path.basename(os.path.abspath(args.out))}")
+        written.append("report.html")
     return [os.path.join(args.out, f) for f in written]

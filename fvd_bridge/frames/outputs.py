@@ -82,6 +82,9 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                 figs.hysteresis(cases, 0, f"story-1 damper in the {building.name}",
                                 os.path.join(fig_dir, "damper_hysteresis.png"))
                 figs.histories(cases, title, os.path.join(fig_dir, "histories.png"))
+        from ..report.page import build_report
+
+        build_report(stage, title=f"fvd_bridge frame report: {os.path.basename(os.path.abspath(out))}")
     return summary
 
 

@@ -1,0 +1,193 @@
+"""OUT/report.html: one self-contained page of what an output folder holds.
+
+Built from the files a verb wrote (``fvd-bridge report OUT`` builds it again):
+the calibration files (params/DEVICE/*.yaml) give per device its tests, the
+fit tables with intervals and warnings, and, with the records read again as
+they were calibrated, the acceptance table (``acceptance.py``);
+summary.json gives the series' statistics and Pareto front; a diagnosis'
+JSON its verdict and candidates; frame_summary.json the frame's verdict.
+Every figure in the folder is embedded (base64 PNG): the page fetches
+nothing from another host, reads offline and survives being mailed.
+"""
+
+from __future__ import annotations
+
+import base64
+import glob
+import json
+import os
+import warnings
+from html import escape
+
+from .. import __version__
+from ..calibration import Calibration
+from ..io.staging import atomic_file
+from ..records import ReadOptions, RecordWarning, read_record
+from .acceptance import TOLERANCE, checks_of_test
+from .html import _g, calibration_table, table
+
+STYLE = """body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
+table.fvd{border-collapse:collapse;margin:.6em 0 1.2em}table.fvd td,table.fvd th{border:1px solid #ccc;
+padding:.2em .6em;text-align:left}table.fvd caption{text-align:left;font-weight:600;padding:.3em 0}
+.pass{color:#176b2c}.fail{color:#b00020;font-weight:600}img{max-width:100%;border:1px solid #eee}
+figure{margin:.5em 0 1.5em}figcaption{color:#555;font-size:.9em}section.device{border-top:2px solid #336;
+margin-top:2em}"""
+
+
+def _image(path: str, caption: str) -> str:
+    with open(path, "rb") as fh:
+        data = base64.b64encode(fh.read()).decode("ascii")
+    return (f"<figure><img alt='{escape(caption)}' src='data:image/png;base64,{data}'>"
+            f"<figcaption>{escape(caption)}</figcaption></figure>")
+
+
+def _record(block: dict):
+    """The test's record read again as it was calibrated; None when its file is gone."""
+    path = (block or {}).get("file")
+    if not path or not os.path.isfile(path):
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RecordWarning)
+        rec = read_record(path, ReadOptions.from_dict(block.get("reading")), name=block.get("name"))
+    if block.get("window"):
+        lo, hi = block["window"]
+        keep = (rec.t >= lo) & (rec.t <= hi)
+        rec = rec.slice(int(keep.argmax()), int(len(keep) - keep[::-1].argmax()))
+    return rec
+
+
+def _calibrations(out: str) -> dict:
+    """{device: [Calibration]} of the folder's calibration files."""
+    found: dict = {}
+    for path in sorted(glob.glob(os.path.join(out, "params", "*", "*.yaml"))):
+        try:
+            cal = Calibration.load(path)
+        except Exception:  # a file that is not a calibration: not part of the report
+            continue
+        found.setdefault(os.path.basename(os.path.dirname(path)), []).append(cal)
+    return found
+
+
+def _series_nominal(cals: dict) -> dict:
+    """{spec: [Calibration of each device]}: the series' models, for the nominal force."""
+    by_spec: dict = {}
+    for device_cals in cals.values():
+        for cal in device_cals:
+            by_spec.setdefault(cal.spec, []).append(cal)
+    return by_spec
+
+
+def _acceptance(device: str, cals: list, series: dict, tolerance: float) -> str:
+    """The device's acceptance table: its tests checked against the series'
+    best model (the lowest OF) as the nominal."""
+    best = min(cals, key=lambda c: c.of)
+    rows, notes = [], []
+    for test in best.tests:
+        rec = _record(test.get("record"))
+        if rec is None:
+            notes.append(f"{test['name']}: its record file is not found; no acceptance checks")
+            continue
+        nominal = sum(float(abs(c.force(rec, test=test["name"] if len(c.tests) > 1 and
+                                        test["name"] in [t["name"] for t in c.tests] else None)).max())
+                      for c in series[best.spec]) / len(series[best.spec])
+        for chk in checks_of_test(rec, nominal, tolerance):
+            rows.append((chk, f"{chk.deviation:.1%}"))
+    body = "".join(
+        f"<tr><td>{escape(c.test)}</td><td>{escape(c.what)}</td><td>{_g(c.measured)}</td>"
+        f"<td>{_g(c.reference)}</td><td>{dev}</td><td class='{'pass' if c.passed else 'fail'}'>"
+        f"{'pass' if c.passed else 'FAIL'}</td><td>{escape(c.rule)}</td></tr>" for c, dev in rows)
+    caption = (f"acceptance of {device}: tolerance +-{tolerance:.0%}; nominal force: law {best.spec} of the series "
+               f"({len(series[best.spec])} device(s)) at each test's velocity")
+    out = (f"<table class='fvd acceptance'><caption>{escape(caption)}</caption><thead><tr><th>test</th>"
+           f"<th>check</th><th>measured</th><th>reference</th><th>deviation</th><th>verdict</th><th>rule</th>"
+           f"</tr></thead><tbody>{body}</tbody></table>")
+    return out + "".join(f"<p>{escape(n)}</p>" for n in notes)
+
+
+def _tests_table(cal) -> str:
+    rows = []
+    for t in cal.tests:
+        rec, rng = t.get("record") or {}, t.get("range") or {}
+        rows.append([t["name"], rec.get("samples", "-"), _g(rec.get("dt")), _g(rng.get("d")), _g(rng.get("v")),
+                     _g(rng.get("f")), _g((rec.get("peaks") or {}).get("F")), _g(t.get("of"))])
+    return table(["test", "samples", "dt [s]", "stroke [mm]", "velocity [mm/s]", "frequency [Hz]",
+                  "peak force [kN]", f"OF of {cal.spec}"], rows, "the tests")
+
+
+def _device_section(out: str, device: str, cals: list, series: dict, tolerance: float) -> str:
+    figures = sorted(glob.glob(os.path.join(out, "figures", f"loops_{device}*_law*.png")))
+    parts = [f"<section class='device' id='device-{escape(device)}'><h2>device {escape(device)}</h2>",
+             _tests_table(cals[0]), "<h3>fits</h3>", *[calibration_table(c) for c in cals],
+             "<h3>acceptance</h3>", _acceptance(device, cals, series, tolerance), "<h3>loops</h3>",
+             *[_image(p, os.path.basename(p)) for p in figures], "</section>"]
+    return "\n".join(parts)
+
+
+def _series_section(out: str) -> str:
+    path = os.path.join(out, "summary.json")
+    if not os.path.isfile(path):
+        return ""
+    with open(path) as fh:
+        summary = json.load(fh)
+    devices = [d["name"] if isinstance(d, dict) else d for d in summary.get("devices", [])]
+    rows = []
+    for spec, m in summary.get("models", {}).items():
+        rows.append([spec, _g(m.get("of_mean") if not isinstance(m.get("of_mean"), list) else
+                              sum(m["of_mean"]) / len(m["of_mean"])), _g(m.get("beta")),
+                     "yes" if m.get("non_dominated") else "", "; ".join(m.get("notes") or [])])
+    figs = [p for name in ("of_bars.png", "pareto.png") for p in [os.path.join(out, "figures", name)]
+            if os.path.isfile(p)]
+    figs += sorted(glob.glob(os.path.join(out, "figures", "dispersion_law*.png")))
+    return "\n".join(["<section id='series'><h2>the series</h2>",
+                      table(["model", "mean OF", "robustness beta_r", "Pareto front", "notes"], rows,
+                            f"{len(devices)} device(s): {', '.join(devices)}"),
+                      *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
+
+
+def _diagnosis_sections(out: str) -> str:
+    parts = []
+    for path in sorted(glob.glob(os.path.join(out, "*_diagnose.json"))):
+        with open(path) as fh:
+            rep = json.load(fh)
+        rows = [[c["effect"], _g(c["of"]), f"{c['improvement']:.1%}", "yes" if c.get("significant") else "no",
+                 c.get("reason", "")] for c in rep.get("all_candidates", [])]
+        base = path[:-len("_diagnose.json")]
+        figs = [p for p in (f"{base}_where.png", f"{base}_where_final.png", f"{base}_ladder.png") if os.path.isfile(p)]
+        parts += [f"<section class='diagnosis'><h2>diagnosis of {escape(rep['model'])} on {escape(rep['record'])}</h2>",
+                  f"<p>{escape(rep.get('verdict', ''))}</p>",
+                  table(["effect", "OF", "lower by", "credited", "why not"], rows,
+                        f"OF {rep['of']:.5g}, noise floor {rep['noise_floor_of']:.4g}"),
+                  *[_image(p, os.path.basename(p)) for p in figs], "</section>"]
+    return "\n".join(parts)
+
+
+def _frame_section(out: str) -> str:
+    path = os.path.join(out, "frame_summary.json")
+    if not os.path.isfile(path):
+        return ""
+    with open(path) as fh:
+        summary = json.load(fh)
+    figs = sorted(glob.glob(os.path.join(out, "figures", "*.png")))
+    return "\n".join(["<section id='frame'><h2>frame analysis</h2>",
+                      f"<p>{escape(str(summary.get('verdict', '')))}</p>",
+                      *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
+
+
+def build_report(out: str, tolerance: float = TOLERANCE, title: str | None = None) -> str:
+    """Write ``out``/report.html from the folder's files; returns its path."""
+    cals = _calibrations(out)
+    series = _series_nominal(cals)
+    body = [_series_section(out), *[_device_section(out, dev, c, series, tolerance) for dev, c in cals.items()],
+            _diagnosis_sections(out)]
+    if not cals and not any(body):
+        body.append(_frame_section(out))
+    title = title or f"fvd_bridge report: {os.path.basename(os.path.abspath(out))}"
+    page = (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{escape(title)}</title>"
+            f"<style>{STYLE}</style></head><body><h1>{escape(title)}</h1>"
+            f"<p>fvd_bridge {__version__}; units kN, mm, s. Devices: "
+            + ", ".join(f"<a href='#device-{escape(d)}'>{escape(d)}</a>" for d in cals) + "</p>"
+            + "\n".join(b for b in body if b) + "</body></html>")
+    path = os.path.join(out, "report.html")
+    with atomic_file(path) as fh:
+        fh.write(page)
+    return path

@@ -1,0 +1,115 @@
+"""OUT/report.html: written by calibrate for two lab-like devices, checked in
+a real browser (headless Chromium: the DOM after rendering, no console
+error, a non-blank screenshot kept in test-artifacts/), and its acceptance
+table against the physics put into the records: a device whose oil heats
+up fails the spread of peak force and energy over cycles, a steady one
+passes."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import CLI, REPO, cli_env
+from fvd_bridge.report.acceptance import cycle_peaks_and_energies
+from fvd_bridge.rig import Device, paper
+
+from lab import lab_record
+
+#: the browser the Makefile's sysdeps step installs (Debian package chromium)
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+#: flags for a headless run on a closed network (no background connections)
+HEADLESS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync",
+            "--enable-logging=stderr", "--v=0"]
+#: heating of the second device [1/MJ]: its force falls by a third over the paper's ten cycles
+HOT = 1.5
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("report")
+    protocol = paper()
+    for name, heating in (("steady", 0.0), ("hot", HOT)):
+        lab_record(Device(C=45.0, alpha=0.3, heating=heating, name=name), protocol, seed=3, tmp_path=tmp, name=name)
+    out = tmp / "out"
+    res = subprocess.run([*CLI, "calibrate", str(tmp / "steady.csv"), str(tmp / "hot.csv"), "--laws", "2",
+                          "--runs", "2", "--out", str(out)], capture_output=True, text=True, env=cli_env(),
+                         timeout=600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    return out, tmp
+
+
+def test_the_page_is_self_contained(report):
+    out, _ = report
+    html = (out / "report.html").read_text()
+    assert not re.search(r"""(src|href)=['"]?(https?:)?//""", html)  # nothing from another host
+    assert html.count("data:image/png;base64,") >= 2 + 2  # each device's loops, the series' figures
+    for text in ("device steady", "device hot", "acceptance of steady", "acceptance of hot", "95% interval"):
+        assert text in html
+
+
+def test_the_acceptance_table_follows_the_physics(report):
+    out, tmp = report
+    html = (out / "report.html").read_text()
+    hot = html.split("acceptance of hot", 1)[1].split("</table>", 1)[0]
+    steady = html.split("acceptance of steady", 1)[1].split("</table>", 1)[0]
+    assert re.search(r"peak force spread over cycles.*?FAIL", hot, re.S)
+    assert re.search(r"energy per cycle.*?FAIL", hot, re.S)
+    assert "FAIL" not in steady
+    # a second computation: the peak force in windows of one period (f = v / (2 pi A)) of the protocol
+    from fvd_bridge.records import read_record
+
+    rec = read_record(str(tmp / "hot.csv"))
+    peaks, _ = cycle_peaks_and_energies(rec)
+    period = 2 * np.pi * 40.0 / 500.0
+    by_period = [np.abs(rec.F[(rec.t >= k * period) & (rec.t < (k + 1) * period)]).max()
+                 for k in range(int(rec.t[-1] / period))]
+    assert len(peaks) >= 9 and peaks[0] > peaks[-1] * 1.3  # the heating took a third off
+    assert max(by_period) == pytest.approx(peaks.max(), rel=0.01)
+    assert min(by_period) == pytest.approx(peaks.min(), rel=0.03)
+    assert np.max(np.abs(peaks / peaks.mean() - 1.0)) > 0.15
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="Chromium is not installed (make sysdeps installs it)")
+def test_chromium_renders_the_report(report, tmp_path):
+    out, _ = report
+    page = (out / "report.html").as_uri()
+    dom = subprocess.run([CHROMIUM, *HEADLESS, f"--user-data-dir={tmp_path / 'profile'}", "--dump-dom", page],
+                         capture_output=True, text=True, timeout=120)
+    assert dom.returncode == 0, dom.stderr[-2000:]
+    assert dom.stdout.count("<table") >= 2 * 3 + 1  # per device: tests, fit, acceptance; the series
+    assert len(re.findall(r"<img ", dom.stdout)) >= 4
+    assert "device steady" in dom.stdout and "device hot" in dom.stdout
+    assert not re.search(r"CONSOLE\(\d+\)|Uncaught", dom.stderr)  # no console error
+    shot = tmp_path / "report.png"
+    res = subprocess.run([CHROMIUM, *HEADLESS, f"--user-data-dir={tmp_path / 'profile2'}", "--window-size=1280,2400",
+                          f"--screenshot={shot}", page], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0 and shot.exists(), res.stderr[-2000:]
+    import matplotlib.image as mpimg
+
+    pixels = mpimg.imread(str(shot))
+    assert pixels.std() > 0.05  # not blank
+    artifacts = REPO / "test-artifacts"
+    artifacts.mkdir(exist_ok=True)
+    shutil.copy(shot, artifacts / "report_screenshot.png")
+
+
+def test_report_rebuilds_the_page_and_refuses_a_foreign_folder(report, tmp_path):
+    out, _ = report
+    (out / "report.html").unlink()
+    res = subprocess.run([*CLI, "report", str(out), "--tolerance", "0.5"], capture_output=True, text=True,
+                         env=cli_env(), timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    html = (out / "report.html").read_text()
+    assert "tolerance +-50%" in html
+    res = subprocess.run([*CLI, "report", str(tmp_path)], capture_output=True, text=True, env=cli_env())
+    assert res.returncode == 2 and "not an output folder" in res.stderr and "Traceback" not in res.stderr
+    res = subprocess.run([*CLI, "report", str(out), "--tolerance", "15"], capture_output=True, text=True,
+                         env=cli_env())
+    assert res.returncode == 2 and "--tolerance 15" in res.stderr
