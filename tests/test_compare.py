@@ -49,6 +49,8 @@ def test_the_exact_model_generalises_and_law1_does_not(fitted, tmp_path):
     floor = input_noise_floor(cal.model, cal.values, read_record(other))["floor"]
     assert of["2"] < 1.5 * floor and of["1"] > 5 * of["2"]
     assert (tmp_path / "c" / "dev_compare.png").is_file()
+    page = (tmp_path / "c" / "report.html").read_text()  # the same ranking, in the report
+    assert "calibrated models on" in page and page.index(">2<") < page.index(">1<")
     text = compare(*files, other, "--window", "1,6", "--out", str(tmp_path / "w")).stdout
     assert "generalises best: 2" in text and "where 1 fails" in text
 

@@ -108,6 +108,8 @@ def test_cli_json_report_and_figures(friction_csv, tmp_path, capsys):
     assert [c["of"] for c in report["candidates"]] == sorted(c["of"] for c in report["candidates"])
     assert {c["effect"] for c in report["all_candidates"]} == set(SEVEN)
     assert (out / "friction_dev_where.png").stat().st_size > 10_000
+    page = (out / "report.html").read_text()
+    assert "diagnosis of 2 on friction_dev" in page and "data:image/png;base64," in page
     assert json.loads((out / "friction_dev_diagnose.json").read_text())["model"] == "2"
     assert not list(tmp_path.glob(".out.partial*"))
     # diagnose hands over what it found: the top candidate's calibration file, its OF the

@@ -1,6 +1,7 @@
 """`fvd-bridge frame`: calibrated dampers of a series in the 3-story frame, end to end."""
 
 import csv
+import html
 import json
 import subprocess
 
@@ -53,6 +54,7 @@ def test_frame_compares_laws_and_the_series(series, tmp_path):
     assert {r["model"] for r in drift} == {"1", "2"} and all(int(r["devices"]) == 2 for r in drift)
     assert all(float(r["min"]) <= float(r["mean"]) <= float(r["max"]) for r in drift)
     summary = json.load(open(out / "frame_summary.json"))
+    assert html.escape(summary["verdict"]) in (out / "report.html").read_text()
     assert summary["verdict"].startswith("best-fitting model")
     for name in ("drift_profiles.png", "damper_hysteresis.png", "histories.png"):
         assert (out / "figures" / name).is_file()

@@ -136,4 +136,8 @@ def _write(args, record, rows, report, has_force) -> list:
             compare_figure(record, [(f"{r['model']} ({os.path.basename(r['file'])})", r["F"]) for r in rows],
                            has_force, os.path.join(stage, f"{base}_compare.png"))
             written.append(f"{base}_compare.png")
+        from ..report.page import build_report
+
+        build_report(stage, title=f"fvd_bridge comparison: {os.path.basename(os.path.abspath(args.out))}")
+        written.append("report.html")
     return [os.path.join(args.out, f) for f in written]

@@ -10,12 +10,13 @@ from ..errors import InputError
 
 def add_parser(sub):
     p = sub.add_parser(
-        "report", help="build OUT/report.html again from an output folder (calibrate, campaign, diagnose, frame)",
+        "report", help="build OUT/report.html again from an output folder (calibrate, campaign, diagnose, "
+                       "compare, frame)",
         description="Build one self-contained HTML page (figures embedded, nothing fetched from another host) "
                     "from what an output folder holds: per device its tests, fit tables with intervals and "
                     "warnings, the acceptance table, the loops; the series' statistics and Pareto front; a "
-                    "diagnosis; a frame's verdict. calibrate, campaign, demo, diagnose and frame write it "
-                    "themselves.")
+                    "diagnosis; a comparison; a frame's verdict. calibrate, campaign, demo, diagnose, compare "
+                    "and frame write it themselves.")
     p.add_argument("out", metavar="OUT", help="an output folder of fvd-bridge")
     p.add_argument("--tolerance", type=float, default=None,
                    help="the acceptance checks' tolerance as a share (default 0.15: +-15%%)")
@@ -33,9 +34,9 @@ def run(args) -> int:
         raise InputError(f"--tolerance {tolerance:g}: must be a share between 0 and 1 (0.15 is +-15%)")
     known = ("summary.json", "frame_summary.json", "params")
     if not any(os.path.exists(os.path.join(args.out, k)) for k in known) and not any(
-            f.endswith("_diagnose.json") for f in os.listdir(args.out)):
+            f.endswith(("_diagnose.json", "_compare.json")) for f in os.listdir(args.out)):
         raise InputError(f"{args.out}: not an output folder of fvd-bridge (no params/, summary.json, "
-                         f"*_diagnose.json or frame_summary.json)")
+                         f"*_diagnose.json, *_compare.json or frame_summary.json)")
     path = build_report(args.out, tolerance)
     print(f"wrote {path}", file=sys.stderr)
     return 0

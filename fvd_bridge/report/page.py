@@ -13,6 +13,7 @@ nothing from another host, reads offline and survives being mailed.
 from __future__ import annotations
 
 import base64
+import csv
 import glob
 import json
 import os
@@ -161,6 +162,22 @@ def _diagnosis_sections(out: str) -> str:
     return "\n".join(parts)
 
 
+def _compare_sections(out: str) -> str:
+    parts = []
+    for path in sorted(glob.glob(os.path.join(out, "*_compare.json"))):
+        with open(path) as fh:
+            rep = json.load(fh)
+        rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", _g(m.get("of")),
+                 _g(m.get("of_calibration")), _g(m.get("peak_force_kN"))] for m in rep.get("models", [])]
+        figure = path[:-len(".json")] + ".png"
+        parts += [f"<section class='compare'><h2>calibrated models on {escape(os.path.basename(rep['record']))}</h2>",
+                  table(["file", "model", "device", "OF here", "OF on its calibration", "peak force [kN]"], rows,
+                        "prediction only (no measured force)" if rep.get("prediction_only") else
+                        "best first (OF, eq. 18)"),
+                  *([_image(figure, os.path.basename(figure))] if os.path.isfile(figure) else []), "</section>"]
+    return "\n".join(parts)
+
+
 def _frame_section(out: str) -> str:
     path = os.path.join(out, "frame_summary.json")
     if not os.path.isfile(path):
@@ -168,17 +185,26 @@ def _frame_section(out: str) -> str:
     with open(path) as fh:
         summary = json.load(fh)
     figs = sorted(glob.glob(os.path.join(out, "figures", "*.png")))
+    rows: list = []
+    path = os.path.join(out, "frame_table.csv")
+    if os.path.isfile(path):
+        with open(path, newline="") as fh:
+            rows = list(csv.reader(fh))
+    caption = f"{summary.get('building', '')} under {summary.get('motion', '')} (PGA {summary.get('pga_g', 0):.3g} g)"
     return "\n".join(["<section id='frame'><h2>frame analysis</h2>",
                       f"<p>{escape(str(summary.get('verdict', '')))}</p>",
+                      table(rows[0], rows[1:], caption) if rows else "",
                       *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
 
 
 def build_report(out: str, tolerance: float = TOLERANCE, title: str | None = None) -> str:
-    """Write ``out``/report.html from the folder's files; returns its path."""
+    """Write ``out``/report.html from the folder's files (calibration files,
+    summary.json, a diagnosis', a comparison's or a frame's JSON, figures)
+    with the acceptance checks at ``tolerance`` (a share); returns its path."""
     cals = _calibrations(out)
     series = _series_nominal(cals)
     body = [_series_section(out), *[_device_section(out, dev, c, series, tolerance) for dev, c in cals.items()],
-            _diagnosis_sections(out)]
+            _diagnosis_sections(out), _compare_sections(out)]
     if not cals and not any(body):
         body.append(_frame_section(out))
     title = title or f"fvd_bridge report: {os.path.basename(os.path.abspath(out))}"
