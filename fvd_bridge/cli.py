@@ -16,8 +16,11 @@ import sys
 import time
 import warnings
 
-from . import __version__, timing
-from .errors import InputError
+# figures are written to files, never shown: matplotlib's file backend unless the user chose one
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+from . import __version__, timing  # noqa: E402
+from .errors import InputError  # noqa: E402
 
 VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",
          "report", "demo")

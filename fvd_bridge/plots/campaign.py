@@ -5,30 +5,25 @@ and the acceptance chart (force at the design velocity against the band)."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .record import loop  # noqa: E402
-from .save import save  # noqa: E402
+from .record import loop
+from .save import axes, finish
 
 
-def loops(record, F_model: np.ndarray, title: str, path: str | None = None, fig=None):
-    """Measured vs model: F-d and F-v loops and F-t history, on ``fig``
-    (None: a new figure); written to ``path`` (and closed) when given.
-    Returns the Figure, or the path written."""
-    fig = fig or plt.figure(figsize=(14, 4), layout="constrained")
-    for ax, x in zip(fig.subplots(1, 3), "dvt"):
-        loop(record, F_model, ax=ax, x=x)
+def loops(record, F_model: np.ndarray, title: str, path: str | None = None, ax=None):
+    """Measured vs model: F-d and F-v loops and F-t history (three panels;
+    ``ax``: three Axes or a Figure, ``save.axes``)."""
+    fig, ax = axes(ax, 1, 3, figsize=(14, 4), layout="constrained")
+    for a, x in zip(ax, "dvt"):
+        loop(record, F_model, ax=a, x=x)
     fig.suptitle(title)
-    return save(fig, path) if path else fig
+    return finish(fig, path, ax)
 
 
-def of_bars(specs, devices, mean: np.ndarray, sigma: np.ndarray, path: str) -> str:
+def of_bars(specs, devices, mean: np.ndarray, sigma: np.ndarray, path: str | None = None, ax=None):
     """OF mean (a) and sigma on a log scale (b) per model and device; arrays (n_spec, n_dev)."""
-    fig, ax = plt.subplots(2, 1, figsize=(max(8, 1.1 * len(specs)), 7), sharex=True)
+    fig, ax = axes(ax, 2, 1, figsize=(max(8, 1.1 * len(specs)), 7), sharex=True)
     width = 0.8 / max(len(devices), 1)
     x = np.arange(len(specs))
     for k, dev in enumerate(devices):
@@ -41,14 +36,15 @@ def of_bars(specs, devices, mean: np.ndarray, sigma: np.ndarray, path: str) -> s
     ax[0].legend(fontsize=8, ncol=min(len(devices), 5))
     for a in ax:
         a.grid(axis="y", alpha=0.3)
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def dispersion(spec: str, names, devices, means: np.ndarray, sigmas: np.ndarray, path: str) -> str:
+def dispersion(spec: str, names, devices, means: np.ndarray, sigmas: np.ndarray, path: str | None = None,
+               ax=None):
     """Per parameter: each device's mean as % variation from the mean over devices,
     with its run-to-run sigma as an error bar (normalised by the same mean)."""
     n = len(names)
-    fig, ax = plt.subplots(1, n, figsize=(3.2 * n + 1, 3.4), squeeze=False)
+    fig, ax = axes(ax, 1, n, figsize=(3.2 * n + 1, 3.4), squeeze=False)
     for j, name in enumerate(names):
         ref = means[:, j].mean()
         a = ax[0, j]
@@ -63,12 +59,12 @@ def dispersion(spec: str, names, devices, means: np.ndarray, sigmas: np.ndarray,
         a.grid(alpha=0.3)
     fig.suptitle(f"law {spec}: identified parameters across devices")
     fig.tight_layout()
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def pareto(specs, of_mean, beta, front, path: str) -> str:
+def pareto(specs, of_mean, beta, front, path: str | None = None, ax=None):
     """Mean OF against robustness index beta; the non-dominated models joined."""
-    fig, ax = plt.subplots(figsize=(6.5, 5))
+    fig, ax = axes(ax, figsize=(6.5, 5))
     of_mean, beta, front = map(np.asarray, (of_mean, beta, front))
     ax.scatter(beta[~front], of_mean[~front], color="grey", label="dominated")
     ax.scatter(beta[front], of_mean[front], color="tab:red", label="non-dominated")
@@ -80,17 +76,18 @@ def pareto(specs, of_mean, beta, front, path: str) -> str:
     ax.set_ylabel("mean OF [-] (lower = more accurate)")
     ax.grid(alpha=0.3)
     ax.legend()
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def histograms(spec: str, names, units, values: np.ndarray, columns, k: float, path: str) -> str:
+def histograms(spec: str, names, units, values: np.ndarray, columns, k: float, path: str | None = None,
+               ax=None):
     """One histogram per quantity over the series' devices (values (n_dev, n_q)),
     the median (solid) and the outlier fences median -+ k 1.4826 MAD (dashed);
     outlying devices drawn as red ticks under the axis."""
     n = len(names)
     ncol = min(n, 4)
     nrow = -(-n // ncol)
-    fig, ax = plt.subplots(nrow, ncol, figsize=(3.6 * ncol, 3.0 * nrow), squeeze=False)
+    fig, ax = axes(ax, nrow, ncol, figsize=(3.6 * ncol, 3.0 * nrow), squeeze=False)
     for j, (name, unit, c) in enumerate(zip(names, units, columns)):
         a = ax[j // ncol, j % ncol]
         x = values[:, j]
@@ -114,15 +111,15 @@ def histograms(spec: str, names, units, values: np.ndarray, columns, k: float, p
     fig.suptitle(f"law {spec}: calibrated quantities over {values.shape[0]} devices "
                  f"(median, fences at {k:g} x 1.4826 MAD)")
     fig.tight_layout()
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def acceptance(accept: dict, path: str) -> str:
+def acceptance(accept: dict, path: str | None = None, ax=None):
     """Per model: each device's force at the design velocity (tension, compression)
     against the nominal force and its tolerance band; failures in red."""
     models = accept["models"]
     F0, tol = accept["nominal_force"], accept["settings"]["tolerance"]
-    fig, ax = plt.subplots(len(models), 1, figsize=(9, 2.8 * len(models) + 0.6), squeeze=False, sharex=True)
+    fig, ax = axes(ax, len(models), 1, figsize=(9, 2.8 * len(models) + 0.6), squeeze=False, sharex=True)
     for a, (spec, m) in zip(ax[:, 0], models.items()):
         idx = np.arange(len(m["passed"]))
         a.axhspan(F0 * (1 - tol), F0 * (1 + tol), color="tab:green", alpha=0.12, label=f"nominal +-{tol:.0%}")
@@ -139,4 +136,4 @@ def acceptance(accept: dict, path: str) -> str:
     ax[-1, 0].set_xlabel("device (series order)")
     fig.suptitle(f"force at the design velocity {accept['settings']['velocity']:g} mm/s")
     fig.tight_layout()
-    return save(fig, path)
+    return finish(fig, path, ax)

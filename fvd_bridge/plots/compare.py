@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .save import save  # noqa: E402
+from .save import axes, finish
 
 
-def compare_figure(record, models, measured: bool, path: str) -> str:
+def compare_figure(record, models, measured: bool, path: str | None = None, ax=None):
     """F-d loops, F-t and the residuals of each (label, F) in ``models``
     (best first), over the measured force when ``measured``."""
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5), layout="constrained")
+    fig, ax = axes(ax, 1, 3, figsize=(15, 4.5), layout="constrained")
     if measured:
         ax[0].plot(record.d, record.F, ".", ms=1.2, color="0.5", label="measured")
         ax[1].plot(record.t, record.F, ".", ms=1.2, color="0.5", label="measured")
@@ -33,4 +29,4 @@ def compare_figure(record, models, measured: bool, path: str) -> str:
         a.grid(alpha=0.3)
     ax[0].legend(fontsize=7)
     fig.suptitle(f"calibrated models on {record.name}" + ("" if measured else " (prediction)"))
-    return save(fig, path)
+    return finish(fig, path, ax)

@@ -4,21 +4,17 @@ cycle; the candidate effects) and the OF falling along the ladder."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .save import save  # noqa: E402
+from .save import axes, finish
 
 
-def where(record, diag, path: str) -> str:
+def where(record, diag, path: str | None = None, ax=None):
     """Six panels: r(t), r(d), r(v), F-d loop coloured by r, mean |r| per cycle,
     OF of each candidate against the base OF and the noise floor."""
     r = record.F - diag.F_model
     lim = float(np.max(np.abs(r))) or 1.0
-    fig, ax = plt.subplots(2, 3, figsize=(16, 9), layout="constrained")
+    fig, ax = axes(ax, 2, 3, figsize=(16, 9), layout="constrained")
     a = ax[0, 0]
     a.plot(record.t, r, lw=0.6, color="tab:blue")
     noise = diag.noise_std
@@ -65,14 +61,14 @@ def where(record, diag, path: str) -> str:
         a.grid(alpha=0.3)
     fig.suptitle(f"{record.name}: where model {diag.spec} fails (OF {diag.of:.4g}, "
                  f"noise floor {diag.floor:.4g})")
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def ladder(lad, path: str) -> str:
+def ladder(lad, path: str | None = None, ax=None):
     """OF of each rung of the ladder (log scale) with the noise floor."""
     specs = [r.spec for r in lad.rungs]
     ofs = [r.of for r in lad.rungs]
-    fig, ax = plt.subplots(figsize=(max(6.0, 1.8 * len(specs) + 2), 4.5), layout="constrained")
+    fig, ax = axes(ax, figsize=(max(6.0, 1.8 * len(specs) + 2), 4.5), layout="constrained")
     ax.plot(range(len(specs)), ofs, "o-", color="tab:blue")
     for k, (of, rung) in enumerate(zip(ofs, lad.rungs)):
         label = f"{of:.3g}" if rung.improvement is None else f"{of:.3g} (-{rung.improvement:.0%})"
@@ -84,4 +80,4 @@ def ladder(lad, path: str) -> str:
     ax.set_title(f"the ladder: {lad.stop}", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    return save(fig, path)
+    return finish(fig, path, ax)

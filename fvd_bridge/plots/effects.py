@@ -4,16 +4,12 @@ and the dead band of zero force after each force reversal
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from ..catalog import parse_model  # noqa: E402
-from ..golden import REFERENCE  # noqa: E402
-from ..records import Record  # noqa: E402
-from .save import save  # noqa: E402
+from ..catalog import parse_model
+from ..golden import REFERENCE
+from ..records import Record
+from .save import axes, finish
 
 
 def gap_loops(g: float = 2.0, amp: float = 40.0, freq: float = 0.5, dt: float = 0.002, cycles: float = 2.0):
@@ -29,7 +25,7 @@ def gap_loops(g: float = 2.0, amp: float = 40.0, freq: float = 0.5, dt: float = 
     return t, d, F_law, F_gap
 
 
-def gap_figure(path: str, g: float = 2.0, amp: float = 40.0, freq: float = 0.5) -> str:
+def gap_figure(path: str | None = None, g: float = 2.0, amp: float = 40.0, freq: float = 0.5, ax=None):
     """F-d loops of law 9 with and without a contact gap of clearance g [mm]
     (last cycle), the dead band (|F| < 1e-6 of the peak) marked, and a zoom
     on the reversal at +amp: after the force reverses, no force passes until
@@ -37,7 +33,7 @@ def gap_figure(path: str, g: float = 2.0, amp: float = 40.0, freq: float = 0.5) 
     t, d, F_law, F_gap = gap_loops(g, amp, freq)
     last = t >= t[-1] - 1.0 / freq
     band = last & (np.abs(F_gap) < 1e-6 * np.abs(F_gap).max())
-    fig, ax = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained")
+    fig, ax = axes(ax, 1, 2, figsize=(13, 4.8), layout="constrained")
     for a in ax:
         a.plot(d[last], F_law[last], lw=1.0, color="0.45", label="law 9")
         a.plot(d[last], F_gap[last], lw=1.4, color="tab:red", label=f"law 9 + gap, g = {g:g} mm")
@@ -55,4 +51,4 @@ def gap_figure(path: str, g: float = 2.0, amp: float = 40.0, freq: float = 0.5) 
     ax[0].legend(fontsize=8, loc="upper left")
     fig.suptitle(f"contact gap: F = Ks dz(d - x, g/2), no force while the pin crosses its clearance "
                  f"({amp:g} mm at {freq:g} Hz)")
-    return save(fig, path)
+    return finish(fig, path, ax)

@@ -2,17 +2,14 @@
 
 from __future__ import annotations
 
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .save import save  # noqa: E402
+from .save import axes, finish
 
 
-def check_figure(record, F_model, F_exported, title: str, path: str, label: str = "OpenSees") -> str:
+def check_figure(record, F_model, F_exported, title: str, path: str | None = None, label: str = "OpenSees",
+                 ax=None):
     """F-t, F-d and the difference, model (fvd_bridge) against the exported one."""
-    fig, ax = plt.subplots(1, 3, figsize=(14, 4), layout="constrained")
+    fig, ax = axes(ax, 1, 3, figsize=(14, 4), layout="constrained")
     ax[0].plot(record.t, F_model, "-", lw=1.2, color="tab:blue", label="fvd_bridge model")
     ax[0].plot(record.t, F_exported, "--", lw=0.9, color="tab:red", label=label)
     ax[0].set_xlabel("time t [s]")
@@ -28,4 +25,4 @@ def check_figure(record, F_model, F_exported, title: str, path: str, label: str 
         a.grid(alpha=0.3)
     ax[0].legend()
     fig.suptitle(title)
-    return save(fig, path)
+    return finish(fig, path, ax)

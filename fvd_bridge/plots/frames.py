@@ -3,23 +3,19 @@ the frame, roof drift and damper force histories."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .save import save  # noqa: E402
+from .save import axes, finish
 
 
 def _specs(cases):
     return list(dict.fromkeys(c.spec for c in cases if c.spec is not None and c.result is not None))
 
 
-def drift_profiles(cases, title: str, path: str) -> str:
+def drift_profiles(cases, title: str, path: str | None = None, ax=None):
     """Peak interstory drift ratio per story: the bare frame, and per model the
     mean over the series' devices with its min-max band."""
-    fig, ax = plt.subplots(1, 2, figsize=(11, 5), layout="constrained")
+    fig, ax = axes(ax, 1, 2, figsize=(11, 5), layout="constrained")
     bare = next(c for c in cases if c.spec is None)
     stories = np.arange(1, bare.result.peak_drift_ratio.size + 1)
     for a, attr, label in ((ax[0], "peak_drift_ratio", "peak interstory drift ratio [%]"),
@@ -39,12 +35,12 @@ def drift_profiles(cases, title: str, path: str) -> str:
         a.grid(alpha=0.3)
     ax[0].legend(fontsize=8)
     fig.suptitle(title)
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def hysteresis(cases, story: int, title: str, path: str) -> str:
+def hysteresis(cases, story: int, title: str, path: str | None = None, ax=None):
     """Damper force against deformation in ``story`` (0 = first), first device of each model."""
-    fig, ax = plt.subplots(figsize=(6.5, 5), layout="constrained")
+    fig, ax = axes(ax, figsize=(6.5, 5), layout="constrained")
     for k, spec in enumerate(_specs(cases)):
         c = next(c for c in cases if c.spec == spec and c.result is not None)
         ax.plot(c.result.damper_deformation[:, story], c.result.damper_force[:, story], lw=0.7,
@@ -54,12 +50,12 @@ def hysteresis(cases, story: int, title: str, path: str) -> str:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     ax.set_title(title)
-    return save(fig, path)
+    return finish(fig, path, ax)
 
 
-def histories(cases, title: str, path: str) -> str:
+def histories(cases, title: str, path: str | None = None, ax=None):
     """Roof displacement and first-story damper force against time."""
-    fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True, layout="constrained")
+    fig, ax = axes(ax, 2, 1, figsize=(11, 6), sharex=True, layout="constrained")
     bare = next(c for c in cases if c.spec is None)
     ax[0].plot(bare.result.t, bare.result.floor_displacement[:, -1], "k", lw=0.7, label="bare frame")
     for k, spec in enumerate(_specs(cases)):
@@ -74,4 +70,4 @@ def histories(cases, title: str, path: str) -> str:
         a.grid(alpha=0.3)
     ax[0].legend(fontsize=8, ncol=3)
     fig.suptitle(title)
-    return save(fig, path)
+    return finish(fig, path, ax)
