@@ -23,7 +23,10 @@ from html import escape
 from .. import __version__
 from ..calibration import Calibration
 from ..io.staging import atomic_file
+from ..diagnose.where import analyse, summary_lines
+from ..fit import noise_floor
 from ..records import ReadOptions, RecordWarning, read_record
+from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
 from .html import _g, calibration_table, table
 
@@ -78,18 +81,22 @@ def _series_nominal(cals: dict) -> dict:
     return by_spec
 
 
-def _acceptance(device: str, cals: list, series: dict, tolerance: float) -> str:
+def _test_params(cal, name: str):
+    """The test name to take a calibration's parameters of (None: its shared ones)."""
+    return name if len(cal.tests) > 1 and name in [t["name"] for t in cal.tests] else None
+
+
+def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance: float) -> str:
     """The device's acceptance table: its tests checked against the series'
     best model (the lowest OF) as the nominal."""
     best = min(cals, key=lambda c: c.of)
     rows, notes = [], []
     for test in best.tests:
-        rec = _record(test.get("record"))
+        rec = records.get(test["name"])
         if rec is None:
             notes.append(f"{test['name']}: its record file is not found; no acceptance checks")
             continue
-        nominal = sum(float(abs(c.force(rec, test=test["name"] if len(c.tests) > 1 and
-                                        test["name"] in [t["name"] for t in c.tests] else None)).max())
+        nominal = sum(float(abs(c.force(rec, test=_test_params(c, test["name"]))).max())
                       for c in series[best.spec]) / len(series[best.spec])
         for chk in checks_of_test(rec, nominal, tolerance):
             rows.append((chk, f"{chk.deviation:.1%}"))
@@ -105,21 +112,39 @@ def _acceptance(device: str, cals: list, series: dict, tolerance: float) -> str:
     return out + "".join(f"<p>{escape(n)}</p>" for n in notes)
 
 
-def _tests_table(cal) -> str:
+def _tests_table(cal, records: dict) -> str:
+    """Each test's range, its noise-floor OF (the record's force noise alone) and the model's OF."""
     rows = []
     for t in cal.tests:
-        rec, rng = t.get("record") or {}, t.get("range") or {}
-        rows.append([t["name"], rec.get("samples", "-"), _g(rec.get("dt")), _g(rng.get("d")), _g(rng.get("v")),
-                     _g(rng.get("f")), _g((rec.get("peaks") or {}).get("F")), _g(t.get("of"))])
+        block, rng, rec = t.get("record") or {}, t.get("range") or {}, records.get(t["name"])
+        floor = None if rec is None else noise_floor(force_noise(rec.F), rec.F)
+        rows.append([t["name"], block.get("samples", "-"), _g(block.get("dt")), _g(rng.get("d")), _g(rng.get("v")),
+                     _g(rng.get("f")), _g((block.get("peaks") or {}).get("F")), _g(floor, 3), _g(t.get("of"))])
     return table(["test", "samples", "dt [s]", "stroke [mm]", "velocity [mm/s]", "frequency [Hz]",
-                  "peak force [kN]", f"OF of {cal.spec}"], rows, "the tests")
+                  "peak force [kN]", "noise-floor OF", f"OF of {cal.spec}"], rows, "the tests")
+
+
+def _where_lists(cals: list, records: dict) -> str:
+    """Where each model fails on each test: diagnose's findings (``diagnose.where``)."""
+    parts = []
+    for cal in cals:
+        for name, rec in records.items():
+            if rec is None:
+                continue
+            F = cal.force(rec, test=_test_params(cal, name))
+            lines = summary_lines(analyse(rec, F), force_noise(rec.F))
+            parts.append(f"<p><b>{escape(cal.spec)} on {escape(name)}</b></p><ul>"
+                         + "".join(f"<li>{escape(line)}</li>" for line in lines) + "</ul>")
+    return "\n".join(parts)
 
 
 def _device_section(out: str, device: str, cals: list, series: dict, tolerance: float) -> str:
     figures = sorted(glob.glob(os.path.join(out, "figures", f"loops_{device}*_law*.png")))
+    records = {t["name"]: _record(t.get("record")) for t in cals[0].tests}
     parts = [f"<section class='device' id='device-{escape(device)}'><h2>device {escape(device)}</h2>",
-             _tests_table(cals[0]), "<h3>fits</h3>", *[calibration_table(c) for c in cals],
-             "<h3>acceptance</h3>", _acceptance(device, cals, series, tolerance), "<h3>loops</h3>",
+             _tests_table(cals[0], records), "<h3>fits</h3>", *[calibration_table(c) for c in cals],
+             "<h3>acceptance</h3>", _acceptance(device, cals, series, records, tolerance),
+             "<h3>where each model fails</h3>", _where_lists(cals, records), "<h3>loops</h3>",
              *[_image(p, os.path.basename(p)) for p in figures], "</section>"]
     return "\n".join(parts)
 
