@@ -142,7 +142,19 @@ class Calibration:
         return {a: {b: float(matrix[i, j]) for j, b in enumerate(names)} for i, a in enumerate(names)}
 
     def report(self, min_correlation: float = REPORTED_CORRELATION) -> str:
-        """The fit report, as text (sections as lmfit's fit_report)."""
+        """The fit report, as text (sections as lmfit's fit_report).
+
+        Parameters
+        ----------
+        min_correlation : float
+            Correlations of the parameters below this magnitude are left out.
+
+        Returns
+        -------
+        str
+            Model, fit statistics, variables with stderr and 95% intervals,
+            derived quantities, correlations and warnings.
+        """
         law = self.model.law
         n = sum((t.get("record") or {}).get("samples") or 0 for t in self.tests) or self.record.get("samples")
         lines = ["[[Model]]", f"    {self.spec}: law {law.key} ({law.name}), {law.equation}"]
@@ -188,9 +200,22 @@ class Calibration:
         return calibration_table(self)
 
     def plot(self, ax=None, record=None, x: str = "d"):
-        """Measured and model force against displacement (``x='d'``) or
-        velocity (``x='v'``) of ``record`` (default: the first test fitted)
-        on ``ax`` (None: a new figure); returns the Axes."""
+        """Measured and model force of a test.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; None: a new figure.
+        record : Record, optional
+            The test; default the first test fitted (a loaded calibration has none: give it).
+        x : {'d', 'v', 't'}
+            Against displacement, velocity or time.
+
+        Returns
+        -------
+        matplotlib Axes
+            The Axes drawn on, left open.
+        """
         from .plots.record import loop
 
         if record is None and not self.records:
@@ -226,11 +251,23 @@ class Calibration:
         return out
 
     def beyond_tested(self, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
-        """What of a motion goes beyond the tested range (peak stroke d [mm],
-        peak velocity v [mm/s] more than ``margin`` above the tests', or a
-        dominant frequency outside the tests' by more than ``margin``): the
-        model is then an extrapolation. ``motion``: a Record, or a dict
-        {d, v[, f]} of peaks (``what_of`` names it).  One line each."""
+        """What of a motion goes beyond the tested range: the model is there an extrapolation.
+
+        Parameters
+        ----------
+        motion : Record or dict
+            A record, or {d, v[, f]}: its peak stroke [mm], velocity [mm/s] and frequency [Hz].
+        margin : float
+            A peak counts as beyond from this share above the tests' (a
+            frequency: outside their band by this share).
+        what_of : str, optional
+            The motion's name in the messages (a dict's).
+
+        Returns
+        -------
+        list of str
+            One line per quantity beyond the tested range; [] inside it.
+        """
         if isinstance(motion, dict):
             name, mine = what_of or "the motion", motion
         else:
@@ -277,20 +314,43 @@ class Calibration:
         return self.provenance_lines() + solving_advice(export, self.solving(export))
 
     def to_opensees(self, tag: int = 1, units=None):
-        """The damper as OpenSees commands (``export.opensees.OpenSeesCommands``:
-        a list of (ops function, *args) with ``.apply(ops)`` and
-        ``.to_script('py' | 'tcl')``, the script ``fvd-bridge export
-        opensees`` writes), uniaxial material ``tag``, every value in
-        ``units`` (the OpenSees model's FORCE,LENGTH,TIME: 'kN,m,s' or
-        ('kN', 'm', 's'); default kN, mm, s)."""
+        """The damper as OpenSees commands.
+
+        Parameters
+        ----------
+        tag : int
+            The damper's uniaxial material tag.
+        units : str or tuple, optional
+            The OpenSees model's FORCE,LENGTH,TIME, e.g. ``"kN,m,s"`` or
+            ``("kN", "m", "s")``; None: kN, mm, s.
+
+        Returns
+        -------
+        OpenSeesCommands
+            A list of (ops function, *args) with ``.apply(ops)`` and
+            ``.to_script('py' | 'tcl')`` (the script ``fvd-bridge export
+            opensees`` writes).
+        """
         from .export.opensees import OpenSeesCommands, opensees_export
 
         export = opensees_export(self.model, self.named(), tag, units=units)
         return OpenSeesCommands(export, self.export_lines(export))
 
     def to_fmu(self, path, h_max: float | None = None) -> str:
-        """Write the damper as an FMI 3.0 co-simulation FMU at ``path``
-        (``export.fmu.build_fmu``; ``h_max`` [s] its largest sub-step); returns the path."""
+        """Write the damper as an FMI 3.0 co-simulation FMU (``export.fmu.build_fmu``).
+
+        Parameters
+        ----------
+        path : str or path-like
+            The .fmu file to write (atomically: nothing is left on failure).
+        h_max : float, optional
+            The largest integration sub-step [s]; default the calibration record's dt.
+
+        Returns
+        -------
+        str
+            The path written.
+        """
         from .export.fmu import build_fmu
 
         return build_fmu(self, path, h_max)
@@ -304,8 +364,22 @@ class Calibration:
         return np.array([values[n] for n in self.model.names], dtype=float)
 
     def force(self, record, substeps: int = 1, test: str | None = None) -> np.ndarray:
-        """The calibrated model's force [kN] on ``record`` (n_t,), with the
-        parameters of test ``test`` (None: the file's values, the first test's)."""
+        """The calibrated model's force on a record.
+
+        Parameters
+        ----------
+        record : Record
+            The motion (d, v, dt).
+        substeps : int
+            Integration sub-steps per sample (differential laws).
+        test : str, optional
+            Take the parameters of this test (per-test parameters); None: the shared ones.
+
+        Returns
+        -------
+        numpy.ndarray
+            The force [kN], one value per sample.
+        """
         p = self.values if test is None else self.params_for(test)
         return self.model.force(record, p[None, :], substeps)[0]
 
@@ -406,15 +480,38 @@ class Calibration:
         return out + ([f"note: {self.intervals['note']}"] if self.intervals.get("note") else [])
 
     def save(self, path: str) -> str:
-        """Write the file atomically (a temporary file renamed into place); returns ``path``."""
+        """Write the calibration file (YAML, schema 3) atomically.
+
+        Parameters
+        ----------
+        path : str
+            The file to write (its folder is made).
+
+        Returns
+        -------
+        str
+            ``path``.
+        """
         with atomic_file(path) as fh:
             yaml.safe_dump(self.to_dict(), fh, sort_keys=False, width=100)
         return path
 
     @classmethod
     def load(cls, path: str, catalog=None) -> "Calibration":
-        """Read and check a calibration file (schema 1 or 2); plugin effects come
-        from ``catalog`` or from the plugin files named in its settings."""
+        """Read and check a calibration file (schema 1, 2 or 3).
+
+        Parameters
+        ----------
+        path : str
+            The calibration file.
+        catalog : Catalog, optional
+            Where plugin effects come from; default the plugin files named in its settings.
+
+        Returns
+        -------
+        Calibration
+            A malformed file raises InputError naming the file and key.
+        """
         data = _read_yaml(path)
         if not isinstance(data, dict) or data.get("kind") != KIND:
             raise InputError(f"{path}: not an fvd_bridge calibration file (key 'kind')")

@@ -58,8 +58,20 @@ def _cached(paths: tuple) -> Catalog:
 
 
 def parse_model(spec, catalog: Catalog | None = None) -> Model:
-    """'2', 'law2' or '2+friction+series_stiffness' -> Model, from ``catalog``
-    (default: the built-in laws and effects)."""
+    """A model from its spec.
+
+    Parameters
+    ----------
+    spec : str
+        A law and its effects: ``"2"``, ``"law2"`` or ``"2+friction+series_stiffness"``.
+    catalog : Catalog, optional
+        Where laws and effects come from; default the built-in ones.
+
+    Returns
+    -------
+    Model
+        An unknown law or effect raises InputError naming it.
+    """
     return (catalog or _cached(())).model(spec)
 
 

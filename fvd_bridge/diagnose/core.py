@@ -91,7 +91,18 @@ class Diagnosis:
         return diagnosis_table(self)
 
     def candidate(self, effect: str) -> Candidate:
-        """The candidate that adds ``effect``."""
+        """The candidate that adds an effect.
+
+        Parameters
+        ----------
+        effect : str
+            The effect's name, e.g. ``"friction"``.
+
+        Returns
+        -------
+        Candidate
+            Its refit (``.fit``), OF, improvement and verdict.
+        """
         for c in self.candidates:
             if c.effect == effect:
                 return c
@@ -99,8 +110,19 @@ class Diagnosis:
                          f"(candidates: {', '.join(c.effect for c in self.candidates) or 'none'})")
 
     def accept(self, effect: str | None = None):
-        """The Calibration of the model with ``effect`` added (None: the best
-        candidate), as diagnose refitted it: no second calibration."""
+        """The model with an effect added, as diagnose refitted it: no second calibration.
+
+        Parameters
+        ----------
+        effect : str, optional
+            The effect to add; None: the best candidate (the one that helps most beyond noise).
+
+        Returns
+        -------
+        Calibration
+            The refit, ready to save and export (a candidate diagnose did
+            not credit carries that as a warning).
+        """
         from ..calibration import Calibration
 
         if effect is None and self.best is None:
@@ -112,7 +134,20 @@ class Diagnosis:
         return Calibration.from_fit(c.model, c.fit, self.inputs["record"], settings, warnings)
 
     def ladder(self, max_rungs: int | None = None, progress=None):
-        """The ladder from this diagnosis' model on the same record (``climb``)."""
+        """The ladder from this diagnosis' model on the same record (``climb``).
+
+        Parameters
+        ----------
+        max_rungs : int, optional
+            Stop after this many added effects.
+        progress : callable, optional
+            ``progress(message)`` receives one line per fit.
+
+        Returns
+        -------
+        Ladder
+            Each rung's model, OF and gain, and each rung's diagnosis.
+        """
         from .ladder import climb
 
         i = self.inputs
@@ -185,7 +220,13 @@ class Diagnosis:
         }
 
     def verdict(self) -> str:
-        """One line: what to do next."""
+        """What to do next, in one line.
+
+        Returns
+        -------
+        str
+            Nothing left to explain, the effect to add, or why none helps.
+        """
         if self.at_floor:
             return (f"nothing left to explain: OF {self.of:.4g} is at the noise floor {self.floor:.4g} "
                     f"(within {self.judge.margin:.2g})")

@@ -291,12 +291,33 @@ class OpenSeesCommands(list):
         return self.export.tag
 
     def apply(self, ops) -> int:
-        """Define the damper in ``ops`` (openseespy.opensees); returns its tag."""
+        """Define the damper in an OpenSees model.
+
+        Parameters
+        ----------
+        ops : module
+            ``openseespy.opensees`` (a model already begun with ``ops.model``).
+
+        Returns
+        -------
+        int
+            The damper's material tag.
+        """
         apply(self.export.commands, ops)
         return self.export.tag
 
     def to_script(self, lang: str = "py") -> str:
-        """The OpenSeesPy ('py') or Tcl ('tcl') script defining ``define_damper(ops, tag)``."""
+        """The script that defines the damper, as ``fvd-bridge export opensees`` writes it.
+
+        Parameters
+        ----------
+        lang : {'py', 'tcl'}
+            OpenSeesPy (``define_damper(ops, tag)``) or Tcl (``proc define_damper {tag}``).
+
+        Returns
+        -------
+        str
+        """
         return to_script(self.export, lang, self.comments)
 
 

@@ -35,7 +35,25 @@ class RecordWarning(UserWarning):
 
 
 def read_record(path: str, opts: ReadOptions | None = None, name: str | None = None) -> Record:
-    """Read, convert to kN/mm/s, validate and differentiate one record file."""
+    """Read, convert to kN/mm/s, validate and differentiate one record file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A CSV file with a header (t, d, F[, v]) or a .mat file; a YAML
+        sidecar beside it (``NAME.yaml``) gives its columns and units.
+    opts : ReadOptions, optional
+        Columns, units, the .mat variable, the time step, the velocity
+        differentiator's settings (default: the sidecar's, else kN, mm, s).
+    name : str, optional
+        The record's name; default the file's stem.
+
+    Returns
+    -------
+    Record
+        Bad input raises InputError naming the file, row and column; notes
+        are issued as RecordWarning.
+    """
     path = os.fspath(path)
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file")

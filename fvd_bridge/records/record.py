@@ -99,7 +99,19 @@ class Record:
         }
 
     def slice(self, start: int, stop: int, name: str | None = None) -> "Record":
-        """Samples [start, stop) as a new record (provenance and warnings kept)."""
+        """Samples [start, stop) as a new record (provenance and warnings kept).
+
+        Parameters
+        ----------
+        start, stop : int
+            Sample indices.
+        name : str, optional
+            The new record's name; default this one's.
+
+        Returns
+        -------
+        Record
+        """
         s = np.s_[start:stop]
         cut = {k: None if getattr(self, k) is None else getattr(self, k)[s] for k in ("v_noise", "a_noise")}
         return Record(self.t[s], self.d[s], self.F[s], self.v[s], self.a[s],
