@@ -34,6 +34,8 @@ def test_several_panels_go_on_several_axes_or_a_figure(rec, tmp_path):
     assert campaign.loops(rec, rec.F, "loops", ax=ax) is fig and all(len(a.lines) == 2 for a in ax)
     fig = plt.figure()
     assert effects.gap_figure(ax=fig) is fig and len(fig.axes) == 2
+    fig = plt.figure()
+    assert record.plot_record(rec, ax=fig) is fig and len(fig.axes) == 4
     _, two = plt.subplots(1, 2)
     with pytest.raises(InputError, match="1 x 3 panels"):
         campaign.loops(rec, rec.F, "loops", ax=two)

@@ -53,17 +53,21 @@ def loop(rec: Record, F_model=None, ax=None, x: str = "d", title: str | None = N
     return ax
 
 
-def plot_record(rec: Record, path: str, title: str | None = None) -> str:
-    """Draw the 2x2 quick-look of ``rec`` and write it to ``path`` atomically.
+def plot_record(rec: Record, path: str | None = None, title: str | None = None, ax=None):
+    """Draw the 2x2 quick-look of ``rec`` (F-t, d-t, F-d, F-v) on ``ax``
+    (four Axes or a Figure; None: a new figure) and, given ``path``, write
+    it there atomically (the format follows the extension: png, pdf, svg,
+    ...; PATH.<pid>.part first, then renamed) and return ``path``; else
+    return the Figure, left open."""
+    fmt = check_target(path) if path else None
+    if ax is None and path:  # the command line's quick look: no pyplot figure to keep
+        fig = Figure(figsize=(10, 7), layout="constrained")
+        FigureCanvasAgg(fig)
+        ax = fig.subplots(2, 2)
+    else:
+        from .save import axes
 
-    The image format follows the file extension (png, pdf, svg, ...); the
-    figure goes to PATH.<pid>.part in the same folder, then is renamed.
-    Returns ``path``.
-    """
-    fmt = check_target(path)
-    fig = Figure(figsize=(10, 7), layout="constrained")
-    FigureCanvasAgg(fig)
-    ax = fig.subplots(2, 2)
+        fig, ax = axes(ax, 2, 2, figsize=(10, 7), layout="constrained")
     style = {"lw": 0.8}
     ax[0, 0].plot(rec.t, rec.F, **style)
     ax[0, 0].set(xlabel="t [s]", ylabel="F [kN]", title="force")
@@ -78,6 +82,8 @@ def plot_record(rec: Record, path: str, title: str | None = None) -> str:
     for a in ax.flat:
         a.grid(alpha=0.3)
     fig.suptitle(title or rec.name)
+    if not path:
+        return fig
     tmp = f"{path}.{os.getpid()}.part"
     try:
         fig.savefig(tmp, format=fmt, dpi=120)
