@@ -83,6 +83,9 @@ def test_uninterrupted_run_writes_calibrate_outputs_and_production_tables(refere
     acc = (out / "acceptance.csv").read_text().splitlines()
     assert acc[0].startswith("model,device,F_tension_kN") and len(acc) == 1 + 2 * 4
     assert "rig nominal device" in res.stdout and (out / "records" / "truth.yaml").exists()
+    page = (out / "report.html").read_text()  # the series' production tables in the report
+    assert "the series&#x27; acceptance" in page and "production statistics" in page
+    assert page.count("<section class='device'") == 4
     assert not list(folder.glob(".*partial*"))
 
 

@@ -164,10 +164,32 @@ def _series_section(out: str) -> str:
     figs = [p for name in ("of_bars.png", "pareto.png") for p in [os.path.join(out, "figures", name)]
             if os.path.isfile(p)]
     figs += sorted(glob.glob(os.path.join(out, "figures", "dispersion_law*.png")))
+    figs += sorted(glob.glob(os.path.join(out, "figures", "histogram_law*.png")))
+    figs += [p for p in [os.path.join(out, "figures", "acceptance.png")] if os.path.isfile(p)]
+    production = [_csv_table(out, name, caption) for name, caption in PRODUCTION_TABLES]
     return "\n".join(["<section id='series'><h2>the series</h2>",
                       table(["model", "mean OF", "robustness beta_r", "Pareto front", "notes"], rows,
                             f"{len(devices)} device(s): {', '.join(devices)}"),
+                      *[p for p in production if p],
                       *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
+
+
+#: a production campaign's tables (``campaign.production``), as the report shows them
+PRODUCTION_TABLES = (("production.csv", "production statistics of the calibrated quantities"),
+                     ("outliers.csv", "outliers: devices beyond the robust fences"),
+                     ("acceptance.csv", "the series' acceptance: force at the design velocity against the band"))
+
+
+def _csv_table(out: str, name: str, caption: str) -> str:
+    """A CSV file of the folder as a table ('' when it is not there)."""
+    path = os.path.join(out, name)
+    if not os.path.isfile(path):
+        return ""
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if len(rows) < 2:
+        return f"<p>{escape(caption)}: none</p>"
+    return table(rows[0], rows[1:], caption)
 
 
 def _diagnosis_sections(out: str) -> str:
@@ -210,15 +232,10 @@ def _frame_section(out: str) -> str:
     with open(path) as fh:
         summary = json.load(fh)
     figs = sorted(glob.glob(os.path.join(out, "figures", "*.png")))
-    rows: list = []
-    path = os.path.join(out, "frame_table.csv")
-    if os.path.isfile(path):
-        with open(path, newline="") as fh:
-            rows = list(csv.reader(fh))
     caption = f"{summary.get('building', '')} under {summary.get('motion', '')} (PGA {summary.get('pga_g', 0):.3g} g)"
     return "\n".join(["<section id='frame'><h2>frame analysis</h2>",
                       f"<p>{escape(str(summary.get('verdict', '')))}</p>",
-                      table(rows[0], rows[1:], caption) if rows else "",
+                      _csv_table(out, "frame_table.csv", caption),
                       *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
 
 
