@@ -159,6 +159,7 @@ static double maxwell_force(double sign_z, double lam, double ln_K, double beta)
 #define TRBDF2_GAMMA (2.0 - 1.41421356237309504880)
 #define LAM_MIN (-700.0)
 #define R_MIN 1e-300
+#define DEN_MIN 1e-280  /* a Newton step's denominator below this: at rest, no step */
 #define NEWTON_TOL 1e-10
 #define NEWTON_MAXIT 50
 
@@ -199,7 +200,8 @@ static void maxwell_newton(double lam, double R, double ln_c, double p,
     const double e2 = exp(fmin(ln_c + p * lam, EXP_MAX));
     const double s = e1 + e2;
     const double g1 = e1 + p * e2;
-    const double inv = 1.0 / ((s + R) * g1);
+    const double den = (s + R) * g1;
+    const double inv = den > DEN_MIN ? 1.0 / den : 0.0;  /* at rest the terms underflow: stay, slopes 0 */
     const double nl = fmax(lam - 2.0 * s * (s - R) * inv, LAM_MIN);
     const double d = fabs(nl - lam);
     *converged = e1 * e2 * (p - 1.0) * (p - 1.0) * d * d <= (2.0 * NEWTON_TOL - d * d * d / 6.0) * s * g1;
@@ -213,7 +215,7 @@ static void maxwell_end(double r, double e1, double e2, double inv_g1, double dl
                         double *x, double *lam1, double *lam2) {
     const double s = e1 + e2;
     *lam1 = s * inv_g1;
-    *lam2 = -0.5 * e1 * e2 * (p - 1.0) * (p - 1.0) * s * inv_g1 * inv_g1 * inv_g1;
+    *lam2 = -0.5 * (e1 * inv_g1) * (e2 * inv_g1) * (p - 1.0) * (p - 1.0) * (s * inv_g1);  /* bounded ratios: no overflow at rest */
     *x = copysign(e1 * (1.0 + dlam * (1.0 + 0.5 * dlam)), r);
 }
 

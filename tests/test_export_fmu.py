@@ -592,3 +592,23 @@ def test_export_fmu_verb_on_a_calibrated_rig_device(tmp_path):
     res = _export_fmu(params, "-o", str(tmp_path / "named2.fmu"))
     assert res.returncode == 0, res.stderr[-2000:]
     assert "is not found" in res.stderr and "check on golden" in res.stderr
+
+
+@toolchain
+def test_law7_from_rest_in_the_fmu_as_in_python(built):
+    """A record that starts at rest (samples with zero velocity: zero-travel
+    steps, whose Newton terms underflow) gives law 7's force, in the C mirror
+    as in Python: the same as the moving record shifted (it was zero before)."""
+    cal, path, record, _ = built("7")
+    rest = 5
+    still = record.slice(0, rest)
+    still.d[:], still.v[:], still.a[:] = record.d[0], 0.0, 0.0
+    t = np.concatenate([record.t[:rest], record.t + rest * record.dt])
+    from fvd_bridge.records import Record
+
+    at_rest = Record(t, np.concatenate([still.d, record.d]), np.concatenate([np.zeros(rest), record.F]),
+                     np.concatenate([still.v, record.v]), np.concatenate([still.a, record.a]), name="from_rest")
+    F_python = cal.force(at_rest)
+    assert np.abs(F_python).max() > 0.5 * np.abs(record.F).max()
+    F_c = simulate(path, at_rest, inputs="dva", at_step_end=True)["F"]
+    assert objective(F_python, F_c, at_rest.t) <= MIRROR_OF

@@ -203,3 +203,27 @@ def test_the_guides_table_of_laws_is_the_registrys():
     table = markdown_table()
     assert table in readme
     assert all(f"| {n} {law.name} |" in table for n, law in LAWS.items())
+
+
+@pytest.mark.parametrize("beta", [1.0, 0.2])
+def test_law7_starts_from_rest(beta):
+    """Samples at rest before the motion (zero-travel steps from z = 0) leave
+    law 7 at rest: the force after five of them equals the force after one
+    (which takes no zero-travel step), in the population kernel and in the
+    scalar step form.  It was zero throughout, with NaN inside, until the
+    Newton step's underflow at rest was caught."""
+    from fvd_bridge.laws.scalar import history
+
+    t = np.arange(0.0, 2.0, 0.002)
+    d, v = 20.0 * np.sin(2 * np.pi * t) ** 2, 40.0 * np.pi * np.sin(4 * np.pi * t)  # from rest, smoothly
+    p = np.array([45.0, 0.3, 100.0, beta])
+
+    def after_rest(n):
+        return np.concatenate([np.zeros(n), d]), np.concatenate([np.zeros(n), v])
+
+    one = LAWS[7].force(*after_rest(1), 0.002, p[None, :])[0][1:]
+    assert np.abs(one).max() > 100.0
+    five = after_rest(5)
+    for F in (LAWS[7].force(*five, 0.002, p[None, :])[0], history(7, p, *five, 0.002, 1)):
+        assert np.all(np.abs(F[:5]) < 1e-9)  # at rest (x of 1e-304 mm, not exactly 0)
+        np.testing.assert_allclose(F[5:], one, rtol=0, atol=1e-9 * np.abs(one).max())

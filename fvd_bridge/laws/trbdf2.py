@@ -30,6 +30,7 @@ from .steps import maxwell_log_rate
 TRBDF2_GAMMA = 2.0 - math.sqrt(2.0)
 LAM_MIN = -700.0  # ln|x| floor: |x| < 1e-304 mm counts as 0
 R_MIN = 1e-300  # |r| floor [mm]
+DEN_MIN = 1e-280  # a Newton step's denominator below this: at rest, no step (its reciprocal would overflow)
 NEWTON_TOL = 1e-10  # a solve stops once the error estimate of ln|x| is below
 NEWTON_MAXIT = 50
 
@@ -95,7 +96,9 @@ def maxwell_newton(lam, R, ln_c, p):
     e2 = vexp(ln_c + p * lam)
     s = e1 + e2
     g1 = e1 + p * e2
-    inv = 1.0 / ((s + R) * g1)
+    den = (s + R) * g1
+    # at rest (|r| ~ 1e-304) the terms underflow: the root is 0 to machine precision; stay, slopes 0
+    inv = 1.0 / den if den > DEN_MIN else 0.0
     new = max(lam - 2.0 * s * (s - R) * inv, LAM_MIN)
     d = abs(new - lam)
     converged = e1 * e2 * (p - 1.0) ** 2 * d * d <= (2.0 * NEWTON_TOL - d * d * d / 6.0) * s * g1
@@ -110,7 +113,9 @@ def maxwell_end(r, e1, e2, inv_g1, dlam, p):
     lam2 = -f''/(2 f'^3), f'' = e1 e2 (p - 1)^2/S^2.  Returns (x, lam1, lam2)."""
     s = e1 + e2
     lam1 = s * inv_g1
-    lam2 = -0.5 * e1 * e2 * (p - 1.0) ** 2 * s * inv_g1 * inv_g1 * inv_g1
+    # as three bounded ratios (e1/g1, e2/g1, S/g1): a root near 0 (a solve of r = 0, at rest)
+    # makes g1 ~ 1e-300, where inv_g1 cubed alone would overflow and give lam2 = NaN
+    lam2 = -0.5 * (e1 * inv_g1) * (e2 * inv_g1) * (p - 1.0) ** 2 * (s * inv_g1)
     return math.copysign(e1 * (1.0 + dlam * (1.0 + 0.5 * dlam)), r), lam1, lam2
 
 
