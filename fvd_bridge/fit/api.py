@@ -14,7 +14,7 @@ from .ga import GASettings, run_ga
 from .local import FROM_START, CheckedSettings, LocalSettings, run_checked, run_local
 from .layout import Layout
 from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, data_start, nested_start, wider_bounds
-from .objective import objective
+from .objective import objective_weights
 from .result import FitResult
 from .space import Space
 
@@ -174,11 +174,11 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
     b = apply_overrides(layout.names, model.spec, b, overrides or {})
     space = Space.of(b, log)
 
-    def evaluate(X):
-        of = joint_objective(model, device, layout, space.to_params(X), mask, substeps)
-        return np.where(np.isfinite(of), of, np.inf)
-
     weights = residual_weights(device, mask)
+
+    def evaluate(X):
+        of = joint_objective(model, device, layout, space.to_params(X), mask, substeps, weights)
+        return np.where(np.isfinite(of), of, np.inf)
 
     def residuals(X):
         return joint_residuals(model, device, layout, space.to_params(X), mask, substeps, weights)
@@ -186,23 +186,10 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
     return mode, b, space, evaluate, residuals
 
 
-def _residual_weights(test, mask=None) -> np.ndarray:
-    """c with sum |c (F_model - F)| = eq. 18 of one test (``objective``'s
-    trapezoidal weights over sigma_pm and the duration)."""
-    t, F = test.t, test.F
-    if mask is not None:
-        w = np.gradient(t) * mask
-        return w / (np.std(F[mask]) * w.sum())
-    w = np.zeros_like(t)
-    w[:-1] += 0.5 * np.diff(t)
-    w[1:] += 0.5 * np.diff(t)
-    return w / (np.std(F) * (t[-1] - t[0]))
-
-
 def residual_weights(device, mask=None) -> list:
-    """Per test, w_k c (``_residual_weights``; None for a test of weight 0)."""
+    """Per test, w_k c (``objective_weights``; None for a test of weight 0)."""
     masks = mask if isinstance(mask, (list, tuple)) else [mask] * len(device.tests)
-    return [w * _residual_weights(test, m) if w != 0.0 else None
+    return [w * objective_weights(test.F, test.t, m) if w != 0.0 else None
             for test, w, m in zip(device.tests, device.weights, masks)]
 
 
@@ -214,20 +201,14 @@ def joint_residuals(model, device, layout, P: np.ndarray, mask=None, substeps: i
     weights = residual_weights(device, mask) if weights is None else weights
     parts = [c * (model.force(test, layout.for_test(P, k), substeps) - test.F)
              for k, (test, c) in enumerate(zip(device.tests, weights)) if c is not None]
-    return np.concatenate(parts, axis=-1)
+    return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
 
 
-def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1) -> np.ndarray:
+def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1,
+                    weights: list | None = None) -> np.ndarray:
     """Eq. 18 on each test, weighted by the device's weights: (pop,) for P (pop, n_cols).
     ``mask``: one boolean array (a single test) or a list (per test, None: all samples)."""
-    masks = mask if isinstance(mask, (list, tuple)) else [mask] * len(device.tests)
-    total = 0.0
-    for k, (test, w) in enumerate(zip(device.tests, device.weights)):
-        if w == 0.0:
-            continue
-        F = model.force(test, layout.for_test(P, k), substeps)
-        total = total + w * objective(test.F, F, test.t, masks[k])
-    return np.asarray(total, dtype=float)
+    return np.abs(joint_residuals(model, device, layout, P, mask, substeps, weights)).sum(axis=-1)
 
 
 def polish_model(model, record, start: np.ndarray, mask=None, max_evals: int = 1000,

@@ -5,21 +5,30 @@ from __future__ import annotations
 import numpy as np
 
 
+def objective_weights(F_measured: np.ndarray, t: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
+    """c (n_t,) with OF = sum |p_m - p_e| c: eq. 18's trapezoidal weights
+    over sigma_pm (t_end - t_start); with a boolean ``mask`` the weights
+    (np.gradient's) of the masked samples over sigma_pm of their forces and
+    their sum."""
+    if mask is not None:
+        w = np.gradient(t) * mask
+        return w / (np.std(F_measured[mask]) * w.sum())
+    w = np.zeros_like(t, dtype=float)
+    w[:-1] += 0.5 * np.diff(t)
+    w[1:] += 0.5 * np.diff(t)
+    return w / (np.std(F_measured) * (t[-1] - t[0]))
+
+
 def objective(F_measured: np.ndarray, F_model: np.ndarray, t: np.ndarray, mask: np.ndarray | None = None):
     """OF = 1 / (sigma_pm (t_end - t_start)) * integral |p_m - p_e| dt  (paper eq. 18).
 
     sigma_pm is the standard deviation of the measured force [kN]; the
-    integral is the trapezoidal rule on the record's time grid.  F_model may
-    be (n_t,) or (pop, n_t); returns a float or an array (pop,).  With a
-    boolean ``mask`` (n_t,) the OF of the masked samples only: the
-    trapezoidal weights of those samples, sigma_pm of their forces.
+    integral is the trapezoidal rule on the record's time grid
+    (``objective_weights``).  F_model may be (n_t,) or (pop, n_t); returns a
+    float or an array (pop,).  With a boolean ``mask`` (n_t,) the OF of the
+    masked samples only.
     """
-    err = np.abs(np.asarray(F_model) - F_measured)
-    if mask is not None:
-        w = np.gradient(t) * mask  # trapezoidal weights (dt/2 at the ends), masked
-        return (err @ w) / (np.std(F_measured[mask]) * w.sum())
-    integral = np.trapezoid(err, t, axis=-1)
-    return integral / (np.std(F_measured) * (t[-1] - t[0]))
+    return np.abs(np.asarray(F_model) - F_measured) @ objective_weights(F_measured, t, mask)
 
 
 def mean_abs_noise(noise_std: float) -> float:
