@@ -66,15 +66,15 @@ REPORTED_CORRELATION = 0.1
 class FittedParameter:
     """One calibrated parameter: ``value`` [``unit``]; ``stderr`` and the 95%
     interval ``ci95`` (lower, upper) of the bootstrap (``fit.intervals``;
-    None: not computed); the search ``bounds``; ``per_test``: {test: value}
-    of a parameter fitted per test."""
+    None: not computed); the search ``bounds`` (lower, upper; None where
+    unknown); ``per_test``: {test: value} of a parameter fitted per test."""
 
     name: str
     value: float
     unit: str
     stderr: float | None = None
     ci95: tuple | None = None
-    bounds: tuple | None = None
+    bounds: tuple = (None, None)
     per_test: dict = field(default_factory=dict)
 
     def __float__(self) -> float:
@@ -121,14 +121,13 @@ class Calibration:
     @property
     def params(self) -> dict:
         """{name: FittedParameter}: value, unit, stderr, ci95, bounds, per-test values."""
-        given = self.intervals.get("parameters") or {}
         bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
         out = {}
         for name, unit, value, (lo, hi) in zip(self.model.names, self.model.units, self.values, bounds):
-            entry = given.get(name) or {}
+            entry = self._interval(name)
             per_test = {t["name"]: t["parameters"][name] for t in self.tests if name in (t.get("parameters") or {})}
             out[name] = FittedParameter(name, float(value), unit, entry.get("stderr"),
-                                        tuple(entry["ci95"]) if entry.get("ci95") else None,
+                                        tuple(entry["ci95"]) if "ci95" in entry else None,
                                         (_num(lo), _num(hi)), per_test)
         return out
 
@@ -171,8 +170,7 @@ class Calibration:
             lines.append(f"    optimizer:     {self.settings['optimizer']}, seed {self.settings.get('seed')}")
         lines += [f"    {self.tested_text()}", "[[Variables]]"]
         for p in self.params.values():
-            bounds = "" if p.bounds is None or p.bounds[0] is None else f"  (bounds [{p.bounds[0]:.4g}, " \
-                                                                        f"{p.bounds[1]:.4g}])"
+            bounds = "" if None in p.bounds else f"  (bounds [{p.bounds[0]:.4g}, {p.bounds[1]:.4g}])"
             lines.append(f"    {p.text()}{bounds}")
             lines += [f"        {test}: {v:.6g}" for test, v in p.per_test.items()]
         if self.derived():
@@ -221,7 +219,7 @@ class Calibration:
         if record is None and not self.records:
             raise InputError("Calibration.plot: give record= (a loaded calibration keeps no record)")
         record = record if record is not None else self.records[0]
-        return loop(record, self.force(record, test=record.name if len(self.tests) > 1 else None), ax=ax, x=x,
+        return loop(record, self.force(record, test=self.test_named(record.name)), ax=ax, x=x,
                     title=f"{self.spec} on {record.name}")
 
     @property
@@ -355,6 +353,12 @@ class Calibration:
 
         return build_fmu(self, path, h_max)
 
+    def test_named(self, name: str) -> str | None:
+        """The test whose parameters a record called ``name`` takes: that test
+        when the calibration has several (a parameter fitted per test), else
+        None (the shared values)."""
+        return name if len(self.tests) > 1 and name in [t["name"] for t in self.tests] else None
+
     def params_for(self, test: str) -> np.ndarray:
         """The parameter vector on one test (parameters fitted per test take that test's value)."""
         names = [t["name"] for t in self.tests]
@@ -413,7 +417,6 @@ class Calibration:
     def to_dict(self) -> dict:
         """The schema-2 mapping (see the module docstring)."""
         law = self.model.law
-        bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
         p_mean = self.runs.get("p_mean", self.values)
         p_sigma = self.runs.get("p_sigma", np.zeros(len(self.values)))
         derived_info = {d.name: d.description for d in law.derived}
@@ -426,13 +429,10 @@ class Calibration:
             "effects": [{"name": e.name, "equation": e.equation, "summary": e.summary} for e in self.model.effects],
             "units": dict(UNITS),
             "parameters": {
-                n: {"value": float(v), "unit": u, "bounds": [_num(lo), _num(hi)],
-                    "mean_over_runs": float(m), "sigma_over_runs": float(s),
-                    **self._interval(n),
-                    **({"per_test": {t["name"]: t["parameters"][n] for t in self.tests}}
-                       if any(n in (t.get("parameters") or {}) for t in self.tests) else {})}
-                for n, u, v, (lo, hi), m, s in zip(self.model.names, self.model.units, self.values, bounds,
-                                                   p_mean, p_sigma)},
+                p.name: {"value": p.value, "unit": p.unit, "bounds": list(p.bounds),
+                         "mean_over_runs": float(m), "sigma_over_runs": float(s),
+                         **self._interval(p.name), **({"per_test": p.per_test} if p.per_test else {})}
+                for p, m, s in zip(self.params.values(), p_mean, p_sigma)},
             "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
                                **{k: v for k, v in (self.intervals.get("derived") or {}).get(name, {}).items()
                                   if k in ("stderr", "ci95")}}

@@ -124,7 +124,7 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True, ex
             _figures(stage, records, summary, cs)
         if extra is not None:
             extra(stage, summary)
-        build_report(stage, title=f"fvd_bridge report: {os.path.basename(os.path.abspath(out))}")
+        build_report(stage, shown_as=out)
     return summary
 
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import warnings
 
 import numpy as np
 
@@ -12,7 +11,7 @@ from .. import timing
 from ..errors import InputError
 from ..records import ReadOptions, parse_mapping, read_record
 from ..records.options import NO_COLUMN
-from ..records.readers import RecordWarning
+from ..records.readers import cut, read_as_stored
 
 
 def add_record_options(p: argparse.ArgumentParser, units_flag: str = "--units") -> None:
@@ -52,13 +51,11 @@ def window(record, text: str):
         t0, t1 = (float(x) for x in text.split(","))
     except ValueError:
         raise InputError(f"--window '{text}': expected T0,T1 in s, e.g. 2,10") from None
-    keep = np.flatnonzero((record.t >= t0) & (record.t <= t1))
-    if not t0 < t1 or keep.size < 16:
-        raise InputError(f"--window '{text}': holds {keep.size} samples of {record.name} "
+    kept = int(np.count_nonzero((record.t >= t0) & (record.t <= t1)))
+    if not t0 < t1 or kept < 16:
+        raise InputError(f"--window '{text}': holds {kept} samples of {record.name} "
                          f"({record.t[0]:g} to {record.t[-1]:g} s); need T0 < T1 and at least 16")
-    out = record.slice(int(keep[0]), int(keep[-1]) + 1)
-    out.provenance["window"] = [t0, t1]
-    return out
+    return cut(record, t0, t1)
 
 
 def read_records(paths, args):
@@ -78,18 +75,13 @@ READING = ("columns", "units", "mat_var", "dt", "sg_window", "window")
 
 def read_as_calibrated(block: dict, args):
     """The calibration's record (its file's ``record`` block) read again as
-    calibrate read it (its stored reading options and window), or with the
+    calibrate read it (``records.readers.read_as_stored``), or with the
     verb's reading options where the user gives any; None when the file is
     not there."""
     path = block.get("file")
-    if not path or not os.path.isfile(path):
-        return None
-    if any(getattr(args, key, None) is not None for key in READING):
+    if path and os.path.isfile(path) and any(getattr(args, key, None) is not None for key in READING):
         return read_records([path], args)[0]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RecordWarning)  # said when the record was calibrated
-        record = read_record(path, ReadOptions.from_dict(block.get("reading")))
-    return window(record, ",".join(map(str, block["window"]))) if block.get("window") else record
+    return read_as_stored(block)
 
 
 def quiet_opensees(log: str | None = None) -> None:

@@ -138,6 +138,6 @@ def _write(args, record, rows, report, has_force) -> list:
             written.append(f"{base}_compare.png")
         from ..report.page import build_report
 
-        build_report(stage, title=f"fvd_bridge comparison: {os.path.basename(os.path.abspath(args.out))}")
+        build_report(stage, shown_as=args.out)
         written.append("report.html")
     return [os.path.join(args.out, f) for f in written]

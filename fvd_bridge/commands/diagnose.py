@@ -48,8 +48,9 @@ def add_parser(sub):
                    help="directory for the figures and the JSON report (default results/diagnose)")
     p.add_argument("--no-figures", action="store_true", help="write no figures")
     p.add_argument("--seed", type=int, default=0, help="seed of every fit (default 0)")
-    p.add_argument("--pop", type=int, help="population per parameter of the fits' DE check (diagnose default 8)")
-    p.add_argument("--gens", type=int, help="maximum generations of the fits' DE check (diagnose default 120)")
+    p.add_argument("--pop", type=int, help="DE population per parameter, for a model whose law or effect "
+                                           "needs a global search (law 7, the gap; diagnose default 8)")
+    p.add_argument("--gens", type=int, help="maximum DE generations of such a model (diagnose default 120)")
     p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
                    help="Python file defining extra effects (ranked like the built-in ones)")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
@@ -175,6 +176,6 @@ def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
                 written += [f"{base}_where_final.png", f"{base}_ladder.png"]
         from ..report.page import build_report
 
-        build_report(stage, title=f"fvd_bridge diagnosis: {os.path.basename(os.path.abspath(args.out))}")
+        build_report(stage, shown_as=args.out)
         written.append("report.html")
     return [os.path.join(args.out, f) for f in written]

@@ -84,7 +84,7 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                 figs.histories(cases, title, os.path.join(fig_dir, "histories.png"))
         from ..report.page import build_report
 
-        build_report(stage, title=f"fvd_bridge frame report: {os.path.basename(os.path.abspath(out))}")
+        build_report(stage, shown_as=out)
     return summary
 
 

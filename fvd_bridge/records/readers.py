@@ -27,7 +27,8 @@ from .raw import RawColumns
 from .record import Record
 from .velocity import acceleration_from_velocity, check_settings, derive
 
-__all__ = ["ReadOptions", "RecordWarning", "parse_mapping", "read_record", "record_from_arrays"]
+__all__ = ["ReadOptions", "RecordWarning", "cut", "parse_mapping", "read_as_stored", "read_record",
+           "record_from_arrays"]
 
 
 class RecordWarning(UserWarning):
@@ -97,6 +98,27 @@ def record_from_arrays(t, d, F, v=None, units=None, name: str = "record") -> Rec
     for note in rec.warnings:
         warnings.warn(note, RecordWarning, stacklevel=3)
     return rec
+
+
+def cut(record: Record, t0: float, t1: float) -> Record:
+    """The samples with t0 <= t <= t1 [s] (at least one), the window kept in the provenance."""
+    keep = np.flatnonzero((record.t >= t0) & (record.t <= t1))
+    out = record.slice(int(keep[0]), int(keep[-1]) + 1)
+    out.provenance["window"] = [t0, t1]
+    return out
+
+
+def read_as_stored(block: dict) -> Record | None:
+    """A calibration file's ``record`` block read again as it was read: its
+    stored reading options and window (notes said then are not repeated);
+    None when its file is not there."""
+    path = (block or {}).get("file")
+    if not path or not os.path.isfile(path):
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RecordWarning)
+        record = read_record(path, ReadOptions.from_dict(block.get("reading")))
+    return cut(record, *block["window"]) if block.get("window") else record
 
 
 def _checked(path: str, opts: ReadOptions) -> ReadOptions:

@@ -13,18 +13,19 @@ def table(header: list, rows: list, caption: str = "") -> str:
     return f"<table class='fvd'>{cap}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
-def _g(x, digits: int = 5) -> str:
+def short(x, digits: int = 5) -> str:
+    """A number in ``digits`` significant digits; "-" for None."""
     return "-" if x is None else f"{x:.{digits}g}"
 
 
 def calibration_table(cal) -> str:
     """A calibration: its model and OF, then one row per parameter (value,
     unit, stderr, 95% interval, bounds) and its warnings."""
-    rows = [[p.name, _g(p.value, 6), p.unit, _g(p.stderr, 2),
+    rows = [[p.name, short(p.value, 6), p.unit, short(p.stderr, 2),
              "-" if p.ci95 is None else f"[{p.ci95[0]:.5g}, {p.ci95[1]:.5g}]",
-             "-" if p.bounds is None or p.bounds[0] is None else f"[{p.bounds[0]:.4g}, {p.bounds[1]:.4g}]"]
+             "-" if None in p.bounds else f"[{p.bounds[0]:.4g}, {p.bounds[1]:.4g}]"]
             for p in cal.params.values()]
-    rows += [[name, _g(value, 6), unit, "", "", "(derived)"] for name, (value, unit) in cal.derived().items()]
+    rows += [[name, short(value, 6), unit, "", "", "(derived)"] for name, (value, unit) in cal.derived().items()]
     caption = (f"{cal.spec} on {cal.device or cal.record.get('name', '?')}: OF {cal.of:.5g} "
                f"({len(cal.tests) or 1} test(s))")
     out = table(["parameter", "value", "unit", "stderr", "95% interval", "bounds"], rows, caption)
@@ -35,7 +36,7 @@ def calibration_table(cal) -> str:
 
 def diagnosis_table(diag) -> str:
     """A diagnosis: the verdict, then one row per candidate effect."""
-    rows = [[c.effect, _g(c.of), f"{c.improvement:.1%}", "yes" if c.significant else "no",
+    rows = [[c.effect, short(c.of), f"{c.improvement:.1%}", "yes" if c.significant else "no",
              c.size.text if c.size else "", c.reason] for c in diag.candidates]
     caption = f"{diag.spec} on {diag.record}: OF {diag.of:.5g}, noise floor {diag.floor:.4g}"
     return (f"<p>{escape(diag.verdict())}</p>"

@@ -17,7 +17,6 @@ import csv
 import glob
 import json
 import os
-import warnings
 from html import escape
 
 from .. import __version__
@@ -25,10 +24,11 @@ from ..calibration import Calibration
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
-from ..records import ReadOptions, RecordWarning, read_record
+from ..errors import InputError
+from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
-from .html import _g, calibration_table, table
+from .html import calibration_table, short, table
 
 STYLE = """body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
 table.fvd{border-collapse:collapse;margin:.6em 0 1.2em}table.fvd td,table.fvd th{border:1px solid #ccc;
@@ -45,19 +45,20 @@ def _image(path: str, caption: str) -> str:
             f"<figcaption>{escape(caption)}</figcaption></figure>")
 
 
-def _record(block: dict):
-    """The test's record read again as it was calibrated; None when its file is gone."""
-    path = (block or {}).get("file")
-    if not path or not os.path.isfile(path):
-        return None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RecordWarning)
-        rec = read_record(path, ReadOptions.from_dict(block.get("reading")), name=block.get("name"))
-    if block.get("window"):
-        lo, hi = block["window"]
-        keep = (rec.t >= lo) & (rec.t <= hi)
-        rec = rec.slice(int(keep.argmax()), int(len(keep) - keep[::-1].argmax()))
+def _record(test: dict):
+    """A calibration's test read again as it was calibrated, named as the test; None when its file is gone."""
+    rec = read_as_stored(test.get("record") or {})
+    if rec is not None:
+        rec.name = test["name"]
     return rec
+
+
+def _json(path: str) -> dict | None:
+    """The JSON file at ``path``; None when it is not there."""
+    if not os.path.isfile(path):
+        return None
+    with open(path) as fh:
+        return json.load(fh)
 
 
 def _calibrations(out: str) -> dict:
@@ -66,7 +67,7 @@ def _calibrations(out: str) -> dict:
     for path in sorted(glob.glob(os.path.join(out, "params", "*", "*.yaml"))):
         try:
             cal = Calibration.load(path)
-        except Exception:  # a file that is not a calibration: not part of the report
+        except InputError:  # a file that is not a calibration: not part of the report
             continue
         found.setdefault(os.path.basename(os.path.dirname(path)), []).append(cal)
     return found
@@ -81,11 +82,6 @@ def _series_nominal(cals: dict) -> dict:
     return by_spec
 
 
-def _test_params(cal, name: str):
-    """The test name to take a calibration's parameters of (None: its shared ones)."""
-    return name if len(cal.tests) > 1 and name in [t["name"] for t in cal.tests] else None
-
-
 def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance: float) -> str:
     """The device's acceptance table: its tests checked against the series'
     best model (the lowest OF) as the nominal."""
@@ -96,13 +92,13 @@ def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance:
         if rec is None:
             notes.append(f"{test['name']}: its record file is not found; no acceptance checks")
             continue
-        nominal = sum(float(abs(c.force(rec, test=_test_params(c, test["name"]))).max())
+        nominal = sum(float(abs(c.force(rec, test=c.test_named(rec.name))).max())
                       for c in series[best.spec]) / len(series[best.spec])
         for chk in checks_of_test(rec, nominal, tolerance):
             rows.append((chk, f"{chk.deviation:.1%}"))
     body = "".join(
-        f"<tr><td>{escape(c.test)}</td><td>{escape(c.what)}</td><td>{_g(c.measured)}</td>"
-        f"<td>{_g(c.reference)}</td><td>{dev}</td><td class='{'pass' if c.passed else 'fail'}'>"
+        f"<tr><td>{escape(c.test)}</td><td>{escape(c.what)}</td><td>{short(c.measured)}</td>"
+        f"<td>{short(c.reference)}</td><td>{dev}</td><td class='{'pass' if c.passed else 'fail'}'>"
         f"{'pass' if c.passed else 'FAIL'}</td><td>{escape(c.rule)}</td></tr>" for c, dev in rows)
     caption = (f"acceptance of {device}: tolerance +-{tolerance:.0%}; nominal force: law {best.spec} of the series "
                f"({len(series[best.spec])} device(s)) at each test's velocity")
@@ -118,8 +114,8 @@ def _tests_table(cal, records: dict) -> str:
     for t in cal.tests:
         block, rng, rec = t.get("record") or {}, t.get("range") or {}, records.get(t["name"])
         floor = None if rec is None else noise_floor(force_noise(rec.F), rec.F)
-        rows.append([t["name"], block.get("samples", "-"), _g(block.get("dt")), _g(rng.get("d")), _g(rng.get("v")),
-                     _g(rng.get("f")), _g((block.get("peaks") or {}).get("F")), _g(floor, 3), _g(t.get("of"))])
+        rows.append([t["name"], block.get("samples", "-"), short(block.get("dt")), short(rng.get("d")), short(rng.get("v")),
+                     short(rng.get("f")), short((block.get("peaks") or {}).get("F")), short(floor, 3), short(t.get("of"))])
     return table(["test", "samples", "dt [s]", "stroke [mm]", "velocity [mm/s]", "frequency [Hz]",
                   "peak force [kN]", "noise-floor OF", f"OF of {cal.spec}"], rows, "the tests")
 
@@ -131,16 +127,23 @@ def _where_lists(cals: list, records: dict) -> str:
         for name, rec in records.items():
             if rec is None:
                 continue
-            F = cal.force(rec, test=_test_params(cal, name))
+            F = cal.force(rec, test=cal.test_named(name))
             lines = summary_lines(analyse(rec, F), force_noise(rec.F))
             parts.append(f"<p><b>{escape(cal.spec)} on {escape(name)}</b></p><ul>"
                          + "".join(f"<li>{escape(line)}</li>" for line in lines) + "</ul>")
     return "\n".join(parts)
 
 
+def _loop_figures(out: str, device: str, cals: list) -> list:
+    """The device's loop figures, by the names ``campaign.outputs`` gives them."""
+    names = [f"loops_{t['name'] if len(c.tests) == 1 else device + '_' + t['name']}_law{c.spec}.png"
+             for c in cals for t in c.tests]
+    return [p for p in (os.path.join(out, "figures", n) for n in names) if os.path.isfile(p)]
+
+
 def _device_section(out: str, device: str, cals: list, series: dict, tolerance: float) -> str:
-    figures = sorted(glob.glob(os.path.join(out, "figures", f"loops_{device}*_law*.png")))
-    records = {t["name"]: _record(t.get("record")) for t in cals[0].tests}
+    figures = _loop_figures(out, device, cals)
+    records = {t["name"]: _record(t) for t in cals[0].tests}
     parts = [f"<section class='device' id='device-{escape(device)}'><h2>device {escape(device)}</h2>",
              _tests_table(cals[0], records), "<h3>fits</h3>", *[calibration_table(c) for c in cals],
              "<h3>acceptance</h3>", _acceptance(device, cals, series, records, tolerance),
@@ -150,16 +153,14 @@ def _device_section(out: str, device: str, cals: list, series: dict, tolerance: 
 
 
 def _series_section(out: str) -> str:
-    path = os.path.join(out, "summary.json")
-    if not os.path.isfile(path):
+    summary = _json(os.path.join(out, "summary.json"))
+    if summary is None:
         return ""
-    with open(path) as fh:
-        summary = json.load(fh)
     devices = [d["name"] if isinstance(d, dict) else d for d in summary.get("devices", [])]
     rows = []
     for spec, m in summary.get("models", {}).items():
-        rows.append([spec, _g(m.get("of_mean") if not isinstance(m.get("of_mean"), list) else
-                              sum(m["of_mean"]) / len(m["of_mean"])), _g(m.get("beta")),
+        rows.append([spec, short(m.get("of_mean") if not isinstance(m.get("of_mean"), list) else
+                              sum(m["of_mean"]) / len(m["of_mean"])), short(m.get("beta")),
                      "yes" if m.get("non_dominated") else "", "; ".join(m.get("notes") or [])])
     figs = [p for name in ("of_bars.png", "pareto.png") for p in [os.path.join(out, "figures", name)]
             if os.path.isfile(p)]
@@ -195,9 +196,8 @@ def _csv_table(out: str, name: str, caption: str) -> str:
 def _diagnosis_sections(out: str) -> str:
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_diagnose.json"))):
-        with open(path) as fh:
-            rep = json.load(fh)
-        rows = [[c["effect"], _g(c["of"]), f"{c['improvement']:.1%}", "yes" if c.get("significant") else "no",
+        rep = _json(path)
+        rows = [[c["effect"], short(c["of"]), f"{c['improvement']:.1%}", "yes" if c.get("significant") else "no",
                  c.get("reason", "")] for c in rep.get("all_candidates", [])]
         base = path[:-len("_diagnose.json")]
         figs = [p for p in (f"{base}_where.png", f"{base}_where_final.png", f"{base}_ladder.png") if os.path.isfile(p)]
@@ -212,10 +212,9 @@ def _diagnosis_sections(out: str) -> str:
 def _compare_sections(out: str) -> str:
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_compare.json"))):
-        with open(path) as fh:
-            rep = json.load(fh)
-        rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", _g(m.get("of")),
-                 _g(m.get("of_calibration")), _g(m.get("peak_force_kN"))] for m in rep.get("models", [])]
+        rep = _json(path)
+        rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", short(m.get("of")),
+                 short(m.get("of_calibration")), short(m.get("peak_force_kN"))] for m in rep.get("models", [])]
         figure = path[:-len(".json")] + ".png"
         parts += [f"<section class='compare'><h2>calibrated models on {escape(os.path.basename(rep['record']))}</h2>",
                   table(["file", "model", "device", "OF here", "OF on its calibration", "peak force [kN]"], rows,
@@ -226,11 +225,9 @@ def _compare_sections(out: str) -> str:
 
 
 def _frame_section(out: str) -> str:
-    path = os.path.join(out, "frame_summary.json")
-    if not os.path.isfile(path):
+    summary = _json(os.path.join(out, "frame_summary.json"))
+    if summary is None:
         return ""
-    with open(path) as fh:
-        summary = json.load(fh)
     figs = sorted(glob.glob(os.path.join(out, "figures", "*.png")))
     caption = f"{summary.get('building', '')} under {summary.get('motion', '')} (PGA {summary.get('pga_g', 0):.3g} g)"
     return "\n".join(["<section id='frame'><h2>frame analysis</h2>",
@@ -239,17 +236,18 @@ def _frame_section(out: str) -> str:
                       *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
 
 
-def build_report(out: str, tolerance: float = TOLERANCE, title: str | None = None) -> str:
+def build_report(out: str, tolerance: float = TOLERANCE, shown_as: str | None = None) -> str:
     """Write ``out``/report.html from the folder's files (calibration files,
     summary.json, a diagnosis', a comparison's or a frame's JSON, figures)
-    with the acceptance checks at ``tolerance`` (a share); returns its path."""
+    with the acceptance checks at ``tolerance`` (a share); ``shown_as``: the
+    folder the page names (a verb builds it in its staging folder); returns its path."""
     cals = _calibrations(out)
     series = _series_nominal(cals)
     body = [_series_section(out), *[_device_section(out, dev, c, series, tolerance) for dev, c in cals.items()],
             _diagnosis_sections(out), _compare_sections(out)]
     if not cals and not any(body):
         body.append(_frame_section(out))
-    title = title or f"fvd_bridge report: {os.path.basename(os.path.abspath(out))}"
+    title = f"fvd_bridge report: {os.path.basename(os.path.abspath(shown_as or out))}"
     page = (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{escape(title)}</title>"
             f"<style>{STYLE}</style></head><body><h1>{escape(title)}</h1>"
             f"<p>fvd_bridge {__version__}; units kN, mm, s. Devices: "
