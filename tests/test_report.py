@@ -26,6 +26,8 @@ CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 HEADLESS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
             "--disable-background-networking", "--disable-component-update", "--disable-sync",
             "--enable-logging=stderr", "--v=0"]
+toolchain = pytest.mark.skipif(shutil.which("cmake") is None or shutil.which("cc") is None,
+                               reason="building an FMU needs cmake and a C compiler")
 #: heating of the second device [1/MJ]: its force falls by a third over the paper's ten cycles
 HOT = 1.5
 
@@ -112,3 +114,47 @@ def test_report_rebuilds_the_page_and_refuses_a_foreign_folder(report, tmp_path)
     res = subprocess.run([*CLI, "report", str(out), "--tolerance", "15"], capture_output=True, text=True,
                          env=cli_env())
     assert res.returncode == 2 and "--tolerance 15" in res.stderr
+
+
+def _exports_table(html: str, caption: str) -> list[list[str]]:
+    """The rows of the report's tables with ``caption``, over every device (cells as text)."""
+    bodies = [part.split("</table>", 1)[0] for part in html.split(caption)[1:]]
+    return [re.findall(r"<td>(.*?)</td>", row) for body in bodies for row in re.findall(r"<tr>(.*?)</tr>", body)[1:]]
+
+
+@toolchain
+def test_the_exports_and_their_fidelity_are_in_the_report(report, tmp_path):
+    """Each model's OpenSees mapping is checked in the page (law 2 maps exactly
+    onto a native material: OF at round-off), and the exports made of the
+    folder's calibrations are listed with their units and checks, the same
+    figures the export verbs print; a calibration file outside an output
+    folder notes nothing."""
+    out, _ = report
+    html = (out / "report.html").read_text()
+    rows = _exports_table(html, "each model&#x27;s OpenSees material")
+    assert {r[1] for r in rows} == {"steady", "hot"} and all(r[2] == "exact" for r in rows)
+    assert all(float(r[3]) < 1e-9 and r[5] == "within its bound" for r in rows)
+    cal = out / "params" / "steady" / "law2.yaml"
+    script, fmu = tmp_path / "damper.tcl", tmp_path / "damper.fmu"
+    res = subprocess.run([*CLI, "export", "opensees", str(cal), "--units", "kip,in,s", "--check", "-o", str(script)],
+                         capture_output=True, text=True, env=cli_env(), timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    printed = float(re.search(r"OF\(OpenSees vs model\) = (\S+),", res.stderr).group(1))
+    res = subprocess.run([*CLI, "export", "fmu", str(cal), "-o", str(fmu)], capture_output=True, text=True,
+                         env=cli_env(), timeout=600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    printed_fmu = float(re.search(r"OF\(FMU vs model\) = (\S+) ", res.stderr).group(1))
+    html = (out / "report.html").read_text()
+    made = _exports_table(html, "the exports made")
+    assert [(r[0], r[1], r[2], r[3]) for r in made] == [("opensees", "2", "damper.tcl", "kip,in,s"),
+                                                        ("fmu", "2", "damper.fmu", "kN,mm,s")]
+    assert float(made[0][5]) == pytest.approx(printed, rel=1e-2, abs=1e-15)
+    assert float(made[1][5]) == pytest.approx(printed_fmu, rel=1e-2, abs=1e-15)
+    hot = html.split("<h2>device hot</h2>", 1)[1].split("</section>", 1)[0]
+    assert "the exports made" not in hot and "each model&#x27;s OpenSees material" in hot  # hot has none
+    elsewhere = tmp_path / "law2.yaml"
+    shutil.copy(cal, elsewhere)
+    before = (out / "exports.json").read_text()
+    res = subprocess.run([*CLI, "export", "opensees", str(elsewhere), "-o", str(tmp_path / "other.py")],
+                         capture_output=True, text=True, env=cli_env(), timeout=300)
+    assert res.returncode == 0 and (out / "exports.json").read_text() == before

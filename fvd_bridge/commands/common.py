@@ -82,13 +82,3 @@ def read_as_calibrated(block: dict, args):
     if path and os.path.isfile(path) and any(getattr(args, key, None) is not None for key in READING):
         return read_records([path], args)[0]
     return read_as_stored(block)
-
-
-def quiet_opensees(log: str | None = None) -> None:
-    """Send OpenSees' console output (banners, per-step convergence warnings)
-    to the file ``log`` (default nowhere) for the rest of this process: the
-    analyses report their own solver trouble (FrameResult.solver, the export
-    check's OF)."""
-    import openseespy.opensees as ops
-
-    ops.logFile(log or os.devnull, "-noEcho")

@@ -5,14 +5,12 @@ from __future__ import annotations
 import os
 import sys
 
-import numpy as np
-
 from ..calibration import Calibration
 from ..errors import InputError
 from ..fit import objective
 from ..golden import golden_record, reference_input
 from ..io.staging import atomic_file
-from .common import CALIBRATION_RECORD, add_record_options, quiet_opensees, read_as_calibrated, read_records
+from .common import CALIBRATION_RECORD, add_record_options, read_as_calibrated, read_records
 
 
 def add_parser(sub):
@@ -83,42 +81,42 @@ def run_opensees(args) -> int:
     if record is not None:
         _warn_beyond(cal, record)
     script = to_script(export, lang, cal.export_lines(export))
-    if record is not None and _check(cal, export, record, args):
+    res = None if record is None else _check(cal, export, record, args)
+    if res is not None and not res.ok:
         return 1  # the export failed its check: no script written
     if args.output:
         with atomic_file(args.output) as fh:
             fh.write(script)
         print(f"wrote {args.output}: model {cal.spec}, damper material {export.tag} "
               f"({'exact' if export.exact else 'approximate: ' + export.note})", file=sys.stderr)
+        check = None if res is None else {"record": record.name, "of": res.of, "bound": res.bound, "ok": res.ok}
+        units = ",".join(export.units[k] for k in ("F", "d", "t"))
+        _note(cal, args.params, "opensees", args.output, units, check, export.exact)
     else:
         sys.stdout.write(script)
     return 0
 
 
-def _check(cal, export, record, args) -> int:
-    """OpenSees against the model on the record's motion; 1 when off its bound.
-
-    Both are driven by one consistent motion: the displacement integrated from
-    the record's velocity (trapezoidal rule, from 0 where OpenSees materials
-    start), so that displacement noise, which the derived velocity has
-    smoothed away, reaches neither."""
-    from ..export.opensees_check import check
+def _check(cal, export, record, args):
+    """OpenSees against the model on the record's motion
+    (``opensees_check.check_on_record``): its CheckResult, said on stderr,
+    with a figure when it misses its bound."""
+    from ..export.opensees_check import check_on_record, quiet_opensees
 
     quiet_opensees()
-    d = np.concatenate([[0.0], np.cumsum(0.5 * (record.v[1:] + record.v[:-1]) * np.diff(record.t))])
-    res = check(cal.model, cal.named(), record.t, d, record.v, record.a, export=export)
+    res = check_on_record(cal, record, export)
     verdict = "within" if res.ok else "OUTSIDE"
     print(f"check on {record.name}: OF(OpenSees vs model) = {res.of:.3g}, {verdict} the bound {res.bound:.3g} "
           f"({'exact mapping' if res.exact else 'approximation'})", file=sys.stderr)
     if res.ok:
-        return 0
+        return res
     from ..plots.export import check_figure
 
     base = os.path.splitext(args.output)[0] if args.output else f"{cal.spec}_opensees"
     path = check_figure(record, res.F_model, res.F_opensees, f"OpenSees vs model {cal.spec}: OF {res.of:.3g} "
                         f"(bound {res.bound:.3g})", f"{base}_check.png")
     print(f"the export misses its bound: see {path}", file=sys.stderr)
-    return 1
+    return res
 
 
 def _warn_beyond(cal, record) -> None:
@@ -177,4 +175,19 @@ def run_fmu(args) -> int:
         if os.path.exists(tmp):
             os.remove(tmp)
     print(f"wrote {args.output}: model {cal.spec}, FMI 3.0 co-simulation, validated", file=sys.stderr)
+    _note(cal, args.params, "fmu", args.output, "kN,mm,s",
+          {"record": record.name, "of": of_mirror, "bound": OF_BOUND, "ok": True, "of_d_only": of_d})
     return 0
+
+
+def _note(cal, params_path, kind, file, units, check, exact=None) -> None:
+    """Note the export in its calibration's output folder (``export.ledger``)
+    and build that folder's report again; nothing when the file lives elsewhere."""
+    from ..export.ledger import note_export, output_folder
+    from ..report.page import build_report
+
+    out = output_folder(params_path)
+    if out is None:
+        return
+    note_export(out, cal, params_path, kind, file, units, check, exact)
+    print(f"noted in {build_report(out)}", file=sys.stderr)

@@ -12,7 +12,7 @@ from ..calibration import Calibration
 from ..catalog import catalog
 from ..errors import InputError
 from ..records.motions import read_motion
-from .common import quiet_opensees
+from ..export.opensees_check import quiet_opensees
 
 BUILDINGS = ("3-story", "9-story")
 #: --duration keeping less than this share of the record's energy (Arias intensity) is warned about

@@ -19,18 +19,17 @@ def add_parser(sub):
                     "and frame write it themselves.")
     p.add_argument("out", metavar="OUT", help="an output folder of fvd-bridge")
     p.add_argument("--tolerance", type=float, default=None,
-                   help="the acceptance checks' tolerance as a share (default 0.15: +-15%%)")
+                   help="the acceptance checks' tolerance as a share (default: the page's own, else 0.15: +-15%%)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from ..report.acceptance import TOLERANCE
     from ..report.page import build_report
 
     if not os.path.isdir(args.out):
         raise InputError(f"{args.out}: no such output folder")
-    tolerance = TOLERANCE if args.tolerance is None else args.tolerance
-    if not 0.0 < tolerance < 1.0:
+    tolerance = args.tolerance
+    if tolerance is not None and not 0.0 < tolerance < 1.0:
         raise InputError(f"--tolerance {tolerance:g}: must be a share between 0 and 1 (0.15 is +-15%)")
     known = ("summary.json", "frame_summary.json", "params")
     if not any(os.path.exists(os.path.join(args.out, k)) for k in known) and not any(

@@ -7,6 +7,8 @@ displacement history d [mm] (and velocity v [mm/s]) on the damper material.
 
 from __future__ import annotations
 
+import os
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +24,14 @@ def _ops():
     import openseespy.opensees as ops  # lazily: OpenSees loads a native library on import
 
     return ops
+
+
+def quiet_opensees(log: str | None = None) -> None:
+    """Send OpenSees' console output (banners, per-step convergence warnings)
+    to the file ``log`` (default nowhere) for the rest of this process: the
+    analyses report their own solver trouble (FrameResult.solver, the export
+    check's OF)."""
+    _ops().logFile(log or os.devnull, "-noEcho")
 
 
 def _fresh(ops, commands) -> None:
@@ -135,3 +145,20 @@ def check(model, params: dict, t, d, v=None, a=None, element: bool = False, subs
     F_ops = export.to_kN(F_ops)
     return CheckResult(float(objective(F_model, F_ops, t)), export.bound(d, F_model), export.exact,
                        F_ops, F_model)
+
+
+def check_on_record(cal, record, export=None, test: str | None = None) -> CheckResult:
+    """A calibration's OpenSees export (``export``; default: kN, mm, s, tag 1)
+    against its model on a record's motion, with the parameters of ``test``
+    (per-test parameters; None: the shared ones).
+
+    Both are driven by one consistent motion: the displacement integrated
+    from the record's velocity (trapezoidal rule, from 0 where OpenSees
+    materials start), so that displacement noise, which the derived velocity
+    has smoothed away, reaches neither."""
+    values = cal.values if test is None else cal.params_for(test)
+    params = dict(zip(cal.model.names, map(float, values)))
+    export = export or opensees_export(cal.model, params, tag=1)
+    t, v = record.t, record.v
+    d = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    return check(cal.model, params, t, d, v, record.a, export=export)

@@ -17,6 +17,7 @@ import csv
 import glob
 import json
 import os
+import re
 from html import escape
 
 from .. import __version__
@@ -25,6 +26,7 @@ from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
 from ..errors import InputError
+from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
@@ -134,6 +136,39 @@ def _where_lists(cals: list, records: dict) -> str:
     return "\n".join(parts)
 
 
+def _exports(out: str, device: str, cals: list, records: dict) -> str:
+    """The exports' fidelity: each model's OpenSees material (kN, mm, s)
+    driven with each test's motion against the model
+    (``opensees_check.check_on_record``), or why OpenSees cannot hold it;
+    then the exports made of the device's calibrations (``export.ledger``)."""
+    from ..export.opensees_check import check_on_record, quiet_opensees
+
+    quiet_opensees()
+    rows = []
+    for cal in cals:
+        for name, rec in records.items():
+            if rec is None:
+                continue
+            try:
+                res = check_on_record(cal, rec, test=cal.test_named(name))
+            except InputError as exc:  # OpenSees has no material for it: the FMU is the way
+                rows.append([cal.spec, name, "none", "-", "-", str(exc).split(": ", 1)[-1]])
+                continue
+            rows.append([cal.spec, name, "exact" if res.exact else "approximate", short(res.of, 3),
+                         short(res.bound, 3), "within its bound" if res.ok else "OUTSIDE its bound"])
+    parts = [table(["model", "test", "OpenSees mapping", "OF(OpenSees vs model)", "bound", "verdict"], rows,
+                   "each model's OpenSees material driven with the test's motion (kN, mm, s; eq. 18 with the "
+                   "model's force as reference)")]
+    made = [e for e in exports_of(out) if e.get("device") == device]
+    if made:
+        parts.append(table(
+            ["export", "model", "file", "units", "checked on", "OF(export vs model)", "bound", "written"],
+            [[e["kind"], e["model"], os.path.basename(e["file"]), e["units"], (e.get("check") or {}).get("record", "not checked"),
+              short((e.get("check") or {}).get("of"), 3), short((e.get("check") or {}).get("bound"), 3), e["written"]]
+             for e in made], "the exports made (fvd-bridge export)"))
+    return "\n".join(parts)
+
+
 def _loop_figures(out: str, device: str, cals: list) -> list:
     """The device's loop figures, by the names ``campaign.outputs`` gives them."""
     names = [f"loops_{t['name'] if len(c.tests) == 1 else device + '_' + t['name']}_law{c.spec}.png"
@@ -147,7 +182,8 @@ def _device_section(out: str, device: str, cals: list, series: dict, tolerance: 
     parts = [f"<section class='device' id='device-{escape(device)}'><h2>device {escape(device)}</h2>",
              _tests_table(cals[0], records), "<h3>fits</h3>", *[calibration_table(c) for c in cals],
              "<h3>acceptance</h3>", _acceptance(device, cals, series, records, tolerance),
-             "<h3>where each model fails</h3>", _where_lists(cals, records), "<h3>loops</h3>",
+             "<h3>where each model fails</h3>", _where_lists(cals, records),
+             "<h3>exports</h3>", _exports(out, device, cals, records), "<h3>loops</h3>",
              *[_image(p, os.path.basename(p)) for p in figures], "</section>"]
     return "\n".join(parts)
 
@@ -236,11 +272,24 @@ def _frame_section(out: str) -> str:
                       *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
 
 
-def build_report(out: str, tolerance: float = TOLERANCE, shown_as: str | None = None) -> str:
+def _tolerance_of_page(path: str) -> float | None:
+    """The acceptance tolerance the page at ``path`` was built with; None when there is none."""
+    if not os.path.isfile(path):
+        return None
+    with open(path) as fh:
+        found = re.search(r"<meta name='fvd-tolerance' content='([0-9.eE+-]+)'>", fh.read(4096))
+    return float(found.group(1)) if found else None
+
+
+def build_report(out: str, tolerance: float | None = None, shown_as: str | None = None) -> str:
     """Write ``out``/report.html from the folder's files (calibration files,
-    summary.json, a diagnosis', a comparison's or a frame's JSON, figures)
-    with the acceptance checks at ``tolerance`` (a share); ``shown_as``: the
+    summary.json, a diagnosis', a comparison's or a frame's JSON, exports.json,
+    figures) with the acceptance checks at ``tolerance`` (a share; None: the
+    one the page there was built with, else ``TOLERANCE``); ``shown_as``: the
     folder the page names (a verb builds it in its staging folder); returns its path."""
+    path = os.path.join(out, "report.html")
+    if tolerance is None:
+        tolerance = _tolerance_of_page(path) or TOLERANCE
     cals = _calibrations(out)
     series = _series_nominal(cals)
     body = [_series_section(out), *[_device_section(out, dev, c, series, tolerance) for dev, c in cals.items()],
@@ -249,11 +298,11 @@ def build_report(out: str, tolerance: float = TOLERANCE, shown_as: str | None = 
         body.append(_frame_section(out))
     title = f"fvd_bridge report: {os.path.basename(os.path.abspath(shown_as or out))}"
     page = (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{escape(title)}</title>"
+            f"<meta name='fvd-tolerance' content='{tolerance!r}'>"
             f"<style>{STYLE}</style></head><body><h1>{escape(title)}</h1>"
             f"<p>fvd_bridge {__version__}; units kN, mm, s. Devices: "
             + ", ".join(f"<a href='#device-{escape(d)}'>{escape(d)}</a>" for d in cals) + "</p>"
             + "\n".join(b for b in body if b) + "</body></html>")
-    path = os.path.join(out, "report.html")
     with atomic_file(path) as fh:
         fh.write(page)
     return path
