@@ -14,7 +14,7 @@ The notebook API (``fvd_bridge.api``)::
 
 __version__ = "0.3.0"
 
-from .api import calibrate, diagnose, diagnose_record  # noqa: E402
+from .api import calibrate, diagnose  # noqa: E402
 from .calibration import Calibration, FittedParameter  # noqa: E402
 from .catalog import parse_model  # noqa: E402
 from .diagnose.core import Diagnosis  # noqa: E402
@@ -28,7 +28,7 @@ from .records.record import Record  # noqa: E402
 # ``diagnose`` is the function: imported after the subpackage fvd_bridge.diagnose, whose name it takes
 
 __all__ = ["__version__", "Calibration", "Device", "Diagnosis", "FitWarning", "FittedParameter", "InputError",
-           "Model", "Record", "RecordWarning", "calibrate", "diagnose", "diagnose_record", "parse_model",
+           "Model", "Record", "RecordWarning", "calibrate", "diagnose", "parse_model",
            "read_record"]
 
 

@@ -23,7 +23,6 @@ from .api_words import api_errors, in_api_words
 from .calibration import Calibration
 from .campaign.checks import fit_warnings
 from .catalog import catalog
-from .diagnose import climb
 from .diagnose import diagnose as run_diagnosis
 from .errors import FitWarning, InputError
 from .fit import DEFAULT_OPTIMIZER, fit_model, settings_for
@@ -144,11 +143,3 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, plugins=(
     with api_errors():
         return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
                              catalog=catalog(plugins))
-
-
-def diagnose_record(record, model_or_spec, seed: int = 0, ladder: bool = False, plugins=(), progress=None):
-    """The ``diagnose`` verb: a Diagnosis, or with ``ladder=True`` the ladder (a Ladder)."""
-    if ladder:
-        with api_errors():
-            return climb(record, _model(model_or_spec, plugins), seed, progress=progress, catalog=catalog(plugins))
-    return diagnose(record, model_or_spec, seed, plugins=plugins, progress=progress)

@@ -297,16 +297,31 @@ class Calibration:
         return [*([f"calibrated on record {name}"] if name else []), self.tested_text()]
 
     def solving(self, export):
-        """The OpenSees export as a frame analysis runs it: a power-law dashpot
-        that defeats Newton behind a spring that deflects 0.5% of the tested
-        stroke (``export.opensees.solving_springs``)."""
+        """The OpenSees export as a frame analysis runs it.
+
+        A power-law dashpot that defeats Newton goes behind a spring that
+        deflects 0.5% of the tested stroke (``export.opensees.solving_springs``).
+
+        Parameters
+        ----------
+        export : Export
+            The calibration's OpenSees export (``export.opensees.opensees_export``).
+        """
         from .export.opensees import solving_springs
 
         return solving_springs(export, self.tested.get("d"), self.tested.get("v"))
 
     def export_lines(self, export) -> list[str]:
-        """An OpenSees script's header lines of this calibration: its record,
-        tested range and, where a frame analysis runs it otherwise, how."""
+        """An OpenSees script's header lines of this calibration.
+
+        Its record, tested range and, where a frame analysis runs it
+        otherwise, how.
+
+        Parameters
+        ----------
+        export : Export
+            The calibration's OpenSees export.
+        """
         from .export.opensees import solving_advice
 
         return self.provenance_lines() + solving_advice(export, self.solving(export))
@@ -354,13 +369,30 @@ class Calibration:
         return build_fmu(self, path, h_max)
 
     def test_named(self, name: str) -> str | None:
-        """The test whose parameters a record called ``name`` takes: that test
-        when the calibration has several (a parameter fitted per test), else
-        None (the shared values)."""
+        """The test whose parameters a record takes.
+
+        Parameters
+        ----------
+        name : str
+            The record's name.
+
+        Returns
+        -------
+        str or None
+            That test when the calibration has several (a parameter fitted per
+            test), else None (the shared values).
+        """
         return name if len(self.tests) > 1 and name in [t["name"] for t in self.tests] else None
 
     def params_for(self, test: str) -> np.ndarray:
-        """The parameter vector on one test (parameters fitted per test take that test's value)."""
+        """The parameter vector on one test.
+
+        Parameters
+        ----------
+        test : str
+            A test's name (InputError for another); parameters fitted per
+            test take that test's value.
+        """
         names = [t["name"] for t in self.tests]
         if test not in names:
             raise InputError(f"--test {test}: the calibration has tests {', '.join(names)}")
@@ -390,10 +422,28 @@ class Calibration:
     @classmethod
     def from_fit(cls, model, fit, record, settings: dict | None = None, warnings=(), runs: dict | None = None,
                  intervals=None):
-        """From a FitResult of ``model`` on ``record`` (a Record, or a Device:
-        its tests); the model's vector holds the first test's values, a
-        parameter fitted per test keeps each test's value in ``tests``;
-        ``intervals``: their fit.intervals.Intervals."""
+        """A calibration from a fit.
+
+        The model's vector holds the first test's values; a parameter fitted
+        per test keeps each test's value in ``tests``.
+
+        Parameters
+        ----------
+        model : Model
+            The fitted model.
+        fit : FitResult
+            Its fit.
+        record : Record or Device
+            What it was fitted on (a Device: its tests).
+        settings : dict, optional
+            The fit's settings, kept as provenance.
+        warnings : sequence of str
+            The fit's warnings.
+        runs : dict, optional
+            Statistics over repeated runs (p_mean, p_sigma, ...).
+        intervals : Intervals, optional
+            The parameters' intervals (``fit.intervals``).
+        """
         device = as_device(record)
         n = len(model.names)
         per_test = tuple(dict.fromkeys(name.split(SEP)[0] for name in fit.names[n:]))  # in the fit's column order

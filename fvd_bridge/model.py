@@ -71,15 +71,28 @@ class Model:
         return [p.unit for p in self.parameters]
 
     def has(self, effect_name: str) -> bool:
-        """Whether the model carries the named effect."""
+        """Whether the model carries the named effect.
+
+        Parameters
+        ----------
+        effect_name : str
+            An effect's registry name, e.g. 'friction'.
+        """
         return effect_name in self.effect_names
 
     def refusal(self, effect) -> str:
-        """Why ``effect`` cannot be added to this model ('' when it can), from
-        the declarations: a law without a connection takes no series effect,
-        an effect appears once, two effects cannot set the same connection
-        argument, parameter names must not clash, an effect cannot sit behind
-        one connection effect and beside another."""
+        """Why an effect cannot be added to this model ('' when it can).
+
+        From the declarations: a law without a connection takes no series
+        effect, an effect appears once, two effects cannot set the same
+        connection argument, parameter names must not clash, an effect cannot
+        sit behind one connection effect and beside another.
+
+        Parameters
+        ----------
+        effect : Effect
+            The effect to add (``catalog``'s registry entry).
+        """
         if effect.stage == "series" and not self.law.connection:
             return (f"law {self.law.key} ({self.law.name}) cannot sit behind '{effect.name}' "
                     f"(its step form has no connection)")
@@ -95,8 +108,15 @@ class Model:
         return _placement_conflict(self.effects + (effect,))
 
     def with_effect(self, effect, spec_text: str | None = None) -> "Model":
-        """This model plus ``effect`` (an Effect); what ``refusal`` refuses is an
-        input error (quoting ``spec_text`` when given)."""
+        """This model plus an effect.
+
+        Parameters
+        ----------
+        effect : Effect
+            The effect to add; what ``refusal`` refuses raises InputError.
+        spec_text : str, optional
+            The spec the user wrote, quoted in that message.
+        """
         why = self.refusal(effect)
         if why:
             raise InputError(f"model '{spec_text or f'{self.spec}+{effect.name}'}': {why}")
@@ -109,18 +129,41 @@ class Model:
         return self.law.global_search or any(e.global_search for e in self.effects)
 
     def without_effect(self, effect_name: str) -> "Model":
-        """This model without the named effect (the nested model)."""
+        """This model without the named effect (the nested model).
+
+        Parameters
+        ----------
+        effect_name : str
+            An effect the model carries (InputError otherwise).
+        """
         if not self.has(effect_name):
             raise InputError(f"model '{self.spec}' has no effect '{effect_name}'")
         return Model(self.law, tuple(e for e in self.effects if e.name != effect_name))
 
     def columns_without(self, effect_name: str) -> list[int]:
-        """Indices of the parameter vector that remain without the named effect."""
+        """Indices of the parameter vector that remain without the named effect.
+
+        Parameters
+        ----------
+        effect_name : str
+            An effect the model carries.
+        """
         drop = set(next(e for e in self.effects if e.name == effect_name).names)
         return [k for k, n in enumerate(self.names) if n not in drop]
 
     def split(self, P: np.ndarray) -> tuple[np.ndarray, dict]:
-        """(pop, n_par) -> the law's parameters (pop, n_law) and {effect name: (pop, n_e)}."""
+        """The law's columns and each effect's of a parameter population.
+
+        Parameters
+        ----------
+        P : numpy.ndarray
+            (pop, n_par) parameter rows in the model's order.
+
+        Returns
+        -------
+        tuple
+            The law's parameters (pop, n_law) and {effect name: (pop, n_e)}.
+        """
         j = len(self.law.parameters)
         out = {}
         for e in self.effects:
@@ -130,12 +173,32 @@ class Model:
         return P[:, :len(self.law.parameters)], out
 
     def derived(self, params) -> dict:
-        """Derived quantities of one parameter vector: {name: (value, unit)} (law 8: mu*N [kN])."""
+        """Derived quantities of one parameter vector (law 8: mu*N [kN]).
+
+        Parameters
+        ----------
+        params : array_like
+            The model's parameter vector.
+
+        Returns
+        -------
+        dict
+            {name: (value, unit)}.
+        """
         p = np.asarray(params, dtype=float)[:len(self.law.parameters)]
         return {d.name: (float(d.value(p)), d.unit) for d in self.law.derived}
 
     def bounds(self, mode: str, scales: dict) -> np.ndarray:
-        """(n_par, 2) bounds; effects use their own bounds in both modes."""
+        """The search bounds, (n_par, 2).
+
+        Parameters
+        ----------
+        mode : str
+            'auto' (bounds scaled to the record) or 'paper' (Table 2's);
+            effects use their own bounds in both modes.
+        scales : dict
+            The record's scales (``Record.scales``: peak d, v, F).
+        """
         rows = [self.law.bounds(mode, scales)]
         rows += [e.bounds(scales) for e in self.effects]
         return np.vstack(rows)
@@ -145,11 +208,32 @@ class Model:
         return [None] * len(self.law.parameters) + [v for e in self.effects for v in e.none]
 
     def log_scale(self, mode: str) -> np.ndarray:
-        """Which parameters the default optimizer searches on a log scale."""
+        """Which parameters the default optimizer searches on a log scale.
+
+        Parameters
+        ----------
+        mode : str
+            'auto' (log where declared) or 'paper' (none).
+        """
         return np.array([p.log and mode == "auto" for p in self.parameters])
 
     def force(self, record, P: np.ndarray, substeps: int = 1) -> np.ndarray:
-        """Model force [kN] for each parameter row of P (pop, n_par) -> (pop, n_t)."""
+        """Model force [kN] for each parameter row.
+
+        Parameters
+        ----------
+        record : Record
+            The motion: d [mm], v [mm/s], dt [s].
+        P : array_like
+            (pop, n_par) parameter rows in the model's order (one row: (n_par,)).
+        substeps : int
+            Integration sub-steps per sample (differential laws).
+
+        Returns
+        -------
+        numpy.ndarray
+            (pop, n_t) forces [kN].
+        """
         P = np.atleast_2d(np.asarray(P, dtype=float))
         if P.shape[1] != len(self.names):
             raise InputError(f"model {self.spec}: expected {len(self.names)} parameters "
@@ -159,17 +243,29 @@ class Model:
         return composed_force(self, record, P, substeps)
 
     def active_effects(self, params: dict | None = None) -> list:
-        """The effects not switched off by ``params`` ({name: value}; None: all)."""
+        """The effects not switched off by a parameter set.
+
+        Parameters
+        ----------
+        params : dict, optional
+            {name: value}; None: every effect.
+        """
         if params is None:
             return list(self.effects)
         return [e for e in self.effects
                 if not e.off(np.array([[float(params[n]) for n in e.names]]))[0]]
 
     def opensees_refusal(self, params: dict | None = None) -> str:
-        """Why OpenSees cannot express this model ('' when it can), from the
-        law's and effects' OpenSees forms; with ``params`` ({name: value})
-        effects at their 'off' values are left out and the law's form may
-        refuse parameter values (law 7 with beta != 1)."""
+        """Why OpenSees cannot express this model ('' when it can).
+
+        From the law's and effects' OpenSees forms.
+
+        Parameters
+        ----------
+        params : dict, optional
+            {name: value}: effects at their 'off' values are left out and the
+            law's form may refuse parameter values (law 7 with beta != 1).
+        """
         law, form = self.law, self.law.opensees
         if form is None:
             return f"law {law.key} ({law.name})"
@@ -201,5 +297,16 @@ class Model:
                 if missing else "")
 
     def exports(self, params: dict | None = None) -> dict:
-        """{target: why not ('' when it exports)} for 'opensees' and 'fmu'."""
+        """Where the model exports.
+
+        Parameters
+        ----------
+        params : dict, optional
+            {name: value}, as for ``opensees_refusal``.
+
+        Returns
+        -------
+        dict
+            {target: why not ('' when it exports)} for 'opensees' and 'fmu'.
+        """
         return {"opensees": self.opensees_refusal(params), "fmu": self.fmu_refusal()}

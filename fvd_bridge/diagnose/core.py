@@ -185,7 +185,13 @@ class Diagnosis:
         return s[0] if s else None
 
     def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:
-        """Parameters that ended on a bound (see FitResult.on_bound)."""
+        """Parameters that ended on a bound (see FitResult.on_bound).
+
+        Parameters
+        ----------
+        tol : float
+            How close to a bound counts as on it, as a share of the range.
+        """
         return self.fit.on_bound(tol)
 
     def params(self) -> dict:

@@ -62,7 +62,13 @@ class Device:
         return {k: max(s[k] for s in each) for k in each[0]}
 
     def without(self, index: int) -> "Device":
-        """The device without test ``index`` (leave-one-test-out)."""
+        """The device without one test (leave-one-test-out).
+
+        Parameters
+        ----------
+        index : int
+            The test to leave out, by position.
+        """
         keep = [k for k in range(len(self.tests)) if k != index]
         return Device(self.name, [self.tests[k] for k in keep], self.weights[keep])
 
