@@ -30,7 +30,7 @@ from .executors import Processes
 
 #: schema of table_A7.csv, robustness.csv, pareto.csv and summary.json
 SCHEMA_VERSION = 1
-#: from this many loop figures on, they are drawn in the campaign's processes
+#: from this many figures on, they are drawn in the campaign's processes
 PARALLEL_FIGURES = 8
 
 
@@ -174,7 +174,7 @@ def _figures(stage, records, summary, cs):
     fig_dir = os.path.join(stage, "figures")
     os.makedirs(fig_dir, exist_ok=True)
     specs, devices = list(cs.specs), summary["devices"]
-    loops = []
+    figures = []  # (plotting function, its arguments)
     for dev in records:
         tests = as_device(dev).tests
         for spec in specs:
@@ -182,16 +182,21 @@ def _figures(stage, records, summary, cs):
             cal = Calibration.from_fit(cs.model(spec), best, dev)
             for k, rec in enumerate(tests):
                 name = rec.name if len(tests) == 1 else f"{dev.name}_{rec.name}"
-                loops.append((rec, cal.force(rec, test=rec.name), f"{name}, law {spec}: OF {cal.tests[k]['of']:.4f}",
-                              os.path.join(fig_dir, f"loops_{name}_law{spec}.png")))
-    # one loop figure takes about 0.25 s: dozens of them go to the campaign's processes
-    for _ in Processes(cs.jobs if len(loops) >= PARALLEL_FIGURES else 1).run(plots.loops, loops):
-        pass
+                figures.append((plots.loops, rec, cal.force(rec, test=rec.name),
+                                f"{name}, law {spec}: OF {cal.tests[k]['of']:.4f}",
+                                os.path.join(fig_dir, f"loops_{name}_law{spec}.png")))
     M = summary["models"]
-    plots.of_bars(specs, devices, np.array([M[s]["of_mean"] for s in specs]),
-                  np.array([M[s]["of_sigma"] for s in specs]), os.path.join(fig_dir, "of_bars.png"))
-    for spec in specs:
-        plots.dispersion(spec, M[spec]["names"], devices, M[spec]["p_mean"], M[spec]["p_sigma"],
-                         os.path.join(fig_dir, f"dispersion_law{spec}.png"))
-    plots.pareto(specs, [M[s]["of_overall"] for s in specs], [M[s]["beta"] for s in specs],
-                 [M[s]["non_dominated"] for s in specs], os.path.join(fig_dir, "pareto.png"))
+    figures.append((plots.of_bars, specs, devices, np.array([M[s]["of_mean"] for s in specs]),
+                    np.array([M[s]["of_sigma"] for s in specs]), os.path.join(fig_dir, "of_bars.png")))
+    figures += [(plots.dispersion, spec, M[spec]["names"], devices, M[spec]["p_mean"], M[spec]["p_sigma"],
+                 os.path.join(fig_dir, f"dispersion_law{spec}.png")) for spec in specs]
+    figures.append((plots.pareto, specs, [M[s]["of_overall"] for s in specs], [M[s]["beta"] for s in specs],
+                    [M[s]["non_dominated"] for s in specs], os.path.join(fig_dir, "pareto.png")))
+    # a figure takes 0.1-0.3 s: dozens of them go to the campaign's processes
+    for _ in Processes(cs.jobs if len(figures) >= PARALLEL_FIGURES else 1).run(_draw, figures):
+        pass
+
+
+def _draw(plot, *args):
+    """One figure: ``plot(*args)`` (a task of the campaign's processes)."""
+    return plot(*args)

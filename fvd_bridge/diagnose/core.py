@@ -29,8 +29,7 @@ from .. import timing
 from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..records.device import as_device
-from ..fit.de import DESettings
-from ..fit.local import LocalSettings
+from ..fit.local import CHECK, LocalSettings
 from . import where as where_mod
 from .floor import input_noise_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
@@ -42,7 +41,7 @@ BASE_TOL = 1e-6
 #: an OF up to this multiple of the floor is "close to the floor" in the verdict
 NEAR_FLOOR = 1.5
 
-#: diagnose's settings of the DE that a model declaring global_search gets:
+#: diagnose's settings of the DE check that a model declaring global_search gets:
 #: population per parameter, generations, and the Nelder-Mead evaluations
 #: when a candidate lowers the base (smaller than calibrate's: a diagnosis
 #: runs 1 + 7 fits and the ladder many more; on the rig's records they
@@ -52,13 +51,13 @@ DIAGNOSE_POP, DIAGNOSE_GENS, DIAGNOSE_POLISH = 8, 120, 1000
 
 def diagnose_settings(pop: int | None = None, gens: int | None = None, polish_evals: int | None = None):
     """Settings of diagnose's fits, the default optimizer's (``local``; a
-    model that declares global_search: DE with population ``pop`` per
-    parameter and at most ``gens`` generations; ``polish_evals``:
+    model that declares global_search: its DE check with population ``pop``
+    per parameter and at most ``gens`` generations; ``polish_evals``:
     Nelder-Mead evaluations when a candidate lowers the base).  None keeps
     the diagnose default."""
     settings_for(DEFAULT_OPTIMIZER, pop, gens)  # validates
-    return replace(LocalSettings(), search=DESettings(popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
-                                                      polish_evals=polish_evals or DIAGNOSE_POLISH))
+    return replace(LocalSettings(), search=replace(CHECK, popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
+                                                   polish_evals=polish_evals or DIAGNOSE_POLISH))
 
 
 @dataclass

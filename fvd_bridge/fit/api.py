@@ -26,7 +26,7 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
     """Optimizer settings with CLI/YAML overrides (None keeps the default)."""
     if optimizer not in OPTIMIZERS:
         raise InputError(f"--optimizer '{optimizer}': expected one of {', '.join(OPTIMIZERS)}")
-    if optimizer == "local":  # pop, gens: the DE of a model that declares global_search
+    if optimizer == "local":  # pop, gens: the DE check of a model that declares global_search
         base = LocalSettings()
         return replace(base, search=replace(base.search, popsize=pop or base.search.popsize,
                                             gens=gens or base.search.gens))
@@ -123,8 +123,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
     above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
     round: the optimum moves on from where it stopped)."""
-    if optimizer.startswith("local") and model.global_search:  # the law or an effect asks for DE
-        optimizer, settings = "de", settings.search
+    if optimizer == "local" and model.global_search:  # the law or an effect asks for a global check
+        optimizer, settings = "local+de", CheckedSettings(settings, settings.search)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     if start is None and optimizer.startswith("local"):  # the local search starts from the data

@@ -17,16 +17,16 @@
    coarse solve ends where an earlier one's did is not refined again.
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
-The best end is kept, never worse than the caller's start.  A model whose
-law or effect declares ``global_search`` (law 7, the gap) gets DE instead
-(``search``; ``fit.api``).  ``run_checked`` (``local+de``) adds a global
-check for the doubtful: DE (``fit.de``) with the local optimum in its first
-population, stopped when nothing better appears.
+The best end is kept, never worse than the caller's start.  ``run_checked``
+(``local+de``) adds a global check for the doubtful: DE (``fit.de``) with
+the local optimum in its first population, stopped when nothing better
+appears.  A model whose law or effect declares ``global_search`` (law 7,
+the gap) gets that check under ``local`` too (``search``; ``fit.api``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -35,18 +35,23 @@ from scipy.stats import qmc
 from .de import DESettings, polish, run_de
 
 
+#: the global check after a local search: DE with population 8 per parameter,
+#: the local optimum among it, stopped after 20 generations without a better point
+CHECK = DESettings(popsize=8, polish=False, stall=20)
+
+
 @dataclass(frozen=True)
 class LocalSettings:
     """samples: Sobol points (a power of 2); starts: local solves from the
     best distinct ones; max_nfev: least-squares iterations each;
     polish_evals: Nelder-Mead evaluations of the final polish; search: the
-    DE of a model that declares ``global_search``."""
+    DE check of a model that declares ``global_search`` (``run_checked``)."""
 
     samples: int = 32
     starts: int = 2
     max_nfev: int = 40
     polish_evals: int = 0
-    search: DESettings = DESettings(popsize=8)
+    search: DESettings = CHECK
 
 
 #: the local search from a given start alone (no sample around it)
@@ -82,6 +87,12 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
     ``residuals(X) -> R`` (pop, m) with sum |R| = OF.  Returns (x, OF,
     history, evaluations) as ``run_de`` does; the result is never worse
     than ``x0``."""
+    x, of, history, evals, _ = _local(evaluate, residuals, n, rng, s, on_generation, x0)
+    return x, of, history, evals
+
+
+def _local(evaluate, residuals, n, rng, s, on_generation, x0):
+    """``run_local``, and the OF at which each distinct basin's solve ended."""
     count = [0]
     sampler = qmc.Sobol(n, scramble=True, seed=rng)
     X = sampler.random(s.samples)
@@ -117,6 +128,7 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
 
     best_x, best_of = X[int(np.argmin(of))], float(np.min(of))
     basins: list[np.ndarray] = []
+    ends: list[float] = []
     for i in _starts(X, of, s.starts):
         scale = max(float(np.median(np.abs(fun(X[i])))), 1e-30)
         x = solve(X[i], SCALE_SHARES[:1], scale)
@@ -127,6 +139,7 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
         f = float(evaluate(x[None, :])[0])
         count[0] += 1
         history.append(f)
+        ends.append(f)
         if on_generation:
             on_generation(len(history), min(best_of, f))
         if f < best_of:
@@ -134,7 +147,7 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
     if s.polish_evals:
         best_x, best_of = polish(evaluate, best_x, best_of, s.polish_evals, count, step=0.002)
         history.append(best_of)
-    return best_x, best_of, history, count[0]
+    return best_x, best_of, history, count[0], ends
 
 
 @dataclass(frozen=True)
@@ -144,12 +157,7 @@ class CheckedSettings:
     ``check.stall`` generations without a better point."""
 
     local: LocalSettings = LocalSettings()
-    check: DESettings = DESettings(popsize=8, polish=False, stall=20)
-
-    @property
-    def search(self) -> DESettings:
-        """The DE of a model that declares ``global_search``: the check's, run to the end and polished."""
-        return replace(self.check, polish=True, stall=None)
+    check: DESettings = CHECK
 
 
 def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: CheckedSettings = CheckedSettings(),

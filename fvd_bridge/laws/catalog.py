@@ -96,7 +96,7 @@ LAWS = {
            differential.law7,
            note="paper bounds cap the force near C 500^0.3 = 65 kN: law 7 cannot reach a 300 kN loop.",
            state=("z",), reference=(45.0, 0.3, 100.0, 1.0), opensees=ops_form.LAW7,
-           global_search=True),  # local solves stop in basins 0.2-9x DE's OF (demo device)
+           global_search=True),  # 2 local starts missed DE by 34% on the shared friction damper (1 seed in 10)
     8: Law(8, "Lu unified, friction + viscous", "differential",
            "F = z mu N + C v;  dz/dt = K/(mu N) v, z held in [-1, 1]",
            "paper eqs. 12-13 (Lu et al.), an elastic-perfectly-plastic slip element",

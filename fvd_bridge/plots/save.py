@@ -11,10 +11,11 @@ from matplotlib.figure import Figure
 from ..errors import InputError
 
 
-def save(fig, path: str, dpi: int = 110) -> str:
-    """Write ``fig`` to ``path`` (PNG) without leaving a partial file; closes it."""
+def save(fig, path: str, dpi: int = 110, tight: bool = True) -> str:
+    """Write ``fig`` to ``path`` (PNG) without leaving a partial file; closes it.
+    ``tight``: crop to the drawn area (a second drawing pass), unless a layout engine placed the Axes."""
     tmp = f"{path}.part.png"
-    fig.savefig(tmp, dpi=dpi, bbox_inches=None if fig.get_layout_engine() else "tight")
+    fig.savefig(tmp, dpi=dpi, bbox_inches="tight" if tight and not fig.get_layout_engine() else None)
     plt.close(fig)
     os.replace(tmp, path)
     return path
@@ -38,9 +39,10 @@ def axes(ax, nrows: int = 1, ncols: int = 1, **kw):
     return grid.flat[0].figure if isinstance(grid, np.ndarray) else grid.figure, grid
 
 
-def finish(fig, path: str | None, ax):
-    """``path`` when given (the figure written there and closed); else what
-    was drawn on, left open: the Axes of a one-panel figure, or the Figure."""
+def finish(fig, path: str | None, ax, tight: bool = True):
+    """``path`` when given (the figure written there and closed; ``tight``
+    as ``save``); else what was drawn on, left open: the Axes of a one-panel
+    figure, or the Figure."""
     if path:
-        return save(fig, path)
+        return save(fig, path, tight=tight)
     return ax if not isinstance(ax, np.ndarray) else fig
