@@ -42,7 +42,7 @@ def main() -> None:
         rec = read_record(path)
     settings = diagnose_settings()
     print(f"{dev.name}: {rec.n} samples (t,d,F; velocity derived), {os.cpu_count()} cores; settings {settings}\n")
-    diagnose(rec, args.law, seed=args.seed, settings=diagnose_settings(4, 2, 10))  # warm the compiled kernels
+    diagnose(rec, args.law, seed=args.seed, settings=diagnose_settings(4, 2))  # warm the compiled kernels
     t0 = time.perf_counter()
     diag = diagnose(rec, args.law, seed=args.seed, settings=settings,
                     progress=lambda m: print(f"  {time.perf_counter() - t0:6.1f} s  {m}", flush=True))

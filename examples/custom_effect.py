@@ -78,7 +78,7 @@ def main() -> int:
     extra = stribeck_force(np.array([[15.0]]), rec.t, rec.d[None, :], rec.v[None, :], rec.a[None, :])[0]
     rec = Record(rec.t, rec.d, rec.F + extra, rec.v, rec.a, name=rec.name, provenance=rec.provenance)
     print("a virtual 300 kN damper with 15 kN of Stribeck friction, diagnosed with law 2:\n")
-    diag = diagnose(rec, "2", seed=0, settings=diagnose_settings(8, 80, 800), catalog=cat)
+    diag = diagnose(rec, "2", seed=0, settings=diagnose_settings(8, 80), catalog=cat)
     print(format_diagnosis(diag))
     top = diag.candidates[0]
     print(f"\nranked first: {top.effect} (Fs = {top.fit.params[-1]:.3g} kN, planted 15 kN)")

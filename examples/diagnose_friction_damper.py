@@ -84,7 +84,7 @@ def main(argv=None) -> int:
         return 0
     from fvd_bridge.plots import diagnose as figs
 
-    settings = diagnose_settings(6, 50, 500) if args.quick else diagnose_settings()
+    settings = diagnose_settings(6, 50) if args.quick else diagnose_settings()
     os.makedirs(args.out, exist_ok=True)
     rec, other = read(FIT_ON), read(CHECK_ON)
     say = lambda m: print(m, file=sys.stderr, flush=True)  # noqa: E731

@@ -70,7 +70,7 @@ def main(argv=None) -> int:
         return 0
     from fvd_bridge.plots import diagnose as figs
 
-    settings = diagnose_settings(6, 50, 500) if args.quick else diagnose_settings()
+    settings = diagnose_settings(6, 50) if args.quick else diagnose_settings()
     os.makedirs(args.out, exist_ok=True)
     for name, fname in FILES.items():
         rec = read_record(str((DEVICES / fname).resolve()), MAPPING, name=name)

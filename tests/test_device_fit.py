@@ -278,11 +278,11 @@ def test_diagnose_ranks_both_arrangements_where_the_records_tell_them_apart(arra
     swap ('replaces'), which exports to OpenSees and an FMU."""
     from fvd_bridge.diagnose import diagnose, diagnose_settings
 
-    dg = diagnose(arranged["oil_column"], "2+friction", settings=diagnose_settings(10, 60, 600))
+    dg = diagnose(arranged["oil_column"], "2+friction", settings=diagnose_settings(10, 60))
     ranked = [c.effect for c in dg.candidates if c.significant]
     assert ranked[:2] == ["oil_column", "series_stiffness"], ranked
     assert dg.best.of < 0.5 * next(c.of for c in dg.candidates if c.effect == "series_stiffness")
-    swap = diagnose(arranged["oil_column"], "2+series_stiffness+friction", settings=diagnose_settings(10, 60, 600),
+    swap = diagnose(arranged["oil_column"], "2+series_stiffness+friction", settings=diagnose_settings(10, 60),
                     parent=None)
     assert (swap.best.effect, swap.best.replaces, swap.best.spec) == ("oil_column", "series_stiffness",
                                                                       "2+friction+oil_column")

@@ -26,7 +26,7 @@ from lab import lab_record
 
 C, ALPHA = 45.4, 0.3
 #: small optimizer settings: DE population per parameter, generations, polish evaluations
-SETTINGS = diagnose_settings(8, 60, 600)
+SETTINGS = diagnose_settings(8, 60)
 #: planted effects, clearly above 1 kN of force noise and 0.005 mm of displacement noise
 PLANTED = {
     "friction": dict(friction=60.0),

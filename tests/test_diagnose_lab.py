@@ -28,7 +28,7 @@ from lab import lab_from_forces
 
 C, ALPHA = 45.4, 0.3
 #: small optimizer settings for the candidates: DE population per parameter, generations, polish evaluations
-SETTINGS = diagnose_settings(8, 60, 600)
+SETTINGS = diagnose_settings(8, 60)
 #: one planted effect each, sized like real devices (inside the plausible ranges of diagnose/sizes.py)
 #: and large enough that law 2 alone ends at 3x the noise floor or more (peak force about 290 kN)
 PLANTED = {
@@ -143,7 +143,7 @@ def test_bad_base_start_is_recovered(folder):
     rec = rig_lab("paper", "friction", 0.005, folder)
     model = catalog().model("2")
     good = fit_model(model, rec, seed=[0, 0, 0, 0], settings=settings_for(DEFAULT_OPTIMIZER))
-    bad = fit_model(model, rec, seed=0, settings=diagnose_settings(4, 2, 1))
+    bad = fit_model(model, rec, seed=0, settings=diagnose_settings(4, 2))
     bad.params = np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01])
     bad.of = float("inf")
     diag = diagnose(rec, model, seed=0, settings=SETTINGS, base_fit=bad)

@@ -20,7 +20,7 @@ in turn."""
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -29,7 +29,6 @@ from .. import timing
 from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..records.device import as_device
-from ..fit.local import CHECK, LocalSettings
 from . import where as where_mod
 from .floor import input_noise_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
@@ -41,23 +40,18 @@ BASE_TOL = 1e-6
 #: an OF up to this multiple of the floor is "close to the floor" in the verdict
 NEAR_FLOOR = 1.5
 
-#: diagnose's settings of the DE check that a model declaring global_search gets:
-#: population per parameter, generations, and the Nelder-Mead evaluations
-#: when a candidate lowers the base (smaller than calibrate's: a diagnosis
-#: runs 1 + 7 fits and the ladder many more; on the rig's records they
-#: reach the same OF as calibrate's defaults to 4 digits)
-DIAGNOSE_POP, DIAGNOSE_GENS, DIAGNOSE_POLISH = 8, 120, 1000
+#: diagnose's cap on the generations of the DE check a model declaring
+#: global_search gets (calibrate's: 300; a diagnosis runs 1 + 7 fits and the
+#: ladder many more, and the check stops after 20 without a better point)
+DIAGNOSE_GENS = 120
 
 
-def diagnose_settings(pop: int | None = None, gens: int | None = None, polish_evals: int | None = None):
-    """Settings of diagnose's fits, the default optimizer's (``local``; a
-    model that declares global_search: its DE check with population ``pop``
-    per parameter and at most ``gens`` generations; ``polish_evals``:
-    Nelder-Mead evaluations when a candidate lowers the base).  None keeps
-    the diagnose default."""
-    settings_for(DEFAULT_OPTIMIZER, pop, gens)  # validates
-    return replace(LocalSettings(), search=replace(CHECK, popsize=pop or DIAGNOSE_POP, gens=gens or DIAGNOSE_GENS,
-                                                   polish_evals=polish_evals or DIAGNOSE_POLISH))
+def diagnose_settings(pop: int | None = None, gens: int | None = None):
+    """Settings of diagnose's fits: the default optimizer's (``local``); a
+    model that declares global_search gets its DE check with population
+    ``pop`` per parameter and at most ``gens`` generations.  None keeps the
+    diagnose default."""
+    return settings_for(DEFAULT_OPTIMIZER, pop, gens or DIAGNOSE_GENS)
 
 
 @dataclass
@@ -290,7 +284,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             of_off, start = lower_base(found, model)
             if start is None or not of_off < base_fit.of * (1.0 - BASE_TOL):
                 break
-            params, of = polish_model(model, record, start, max_evals=settings.search.polish_evals)
+            params, of = polish_model(model, record, start)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
             base_fit.params, base_fit.of = params, of
             history.append(("lowered by a candidate's refit", float(of)))

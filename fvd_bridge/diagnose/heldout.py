@@ -5,7 +5,7 @@ The record's cycles are dealt into two folds, alternately (cycle 1, 3, 5,
 d), so each fold spans every amplitude and velocity level of the test: a
 fold cut in time would hold the low levels alone and the high ones alone,
 and neither could separate, say, friction from the damping exponent.  Base
-model and candidate are each fitted on one fold (Nelder-Mead from their
+model and candidate are each fitted on one fold (least squares from their
 full-record optimum, the OF of that fold's samples; the model still runs
 over the whole record, so a differential law's state is right) and scored
 on the other fold, then the folds swap.  The candidate passes when, in both folds, it lowers the
@@ -28,8 +28,6 @@ from ..fit import evaluate_params, polish_model
 from ..records.device import Device
 from .where import half_cycles
 
-#: Nelder-Mead evaluations of each fold's fit
-FOLD_EVALS = 400
 #: share of the whole-record drop the held-out drop must reach in each fold
 SHARE = 0.5
 
@@ -59,7 +57,7 @@ class BaseFolds:
         else:
             one = record.tests[0] if isinstance(record, Device) else record
             self.fold = [(one, mask, one, ~mask) for mask in folds(one)]
-        self.fits = [polish_model(model, on, params, mask, FOLD_EVALS)[0] for on, mask, _, _ in self.fold]
+        self.fits = [polish_model(model, on, params, mask)[0] for on, mask, _, _ in self.fold]
         self.scores = [evaluate_params(model, at, p, mask) for p, (_, _, at, mask) in zip(self.fits, self.fold)]
 
 
@@ -69,7 +67,7 @@ def held_out(base: BaseFolds, model, params, improvement: float) -> dict:
     ``improvement``, the relative drop on the whole record}."""
     scores = []
     for on, mask, at, at_mask in base.fold:
-        fitted, _ = polish_model(model, on, params, mask, FOLD_EVALS)
+        fitted, _ = polish_model(model, on, params, mask)
         scores.append(evaluate_params(model, at, fitted, at_mask))
     gain = [(b - c) / b if b > 0 else 0.0 for b, c in zip(base.scores, scores)]
     return {"base": list(base.scores), "with": scores, "gain": gain, "passes": all(g > 0.0 and g >= SHARE * improvement for g in gain)}

@@ -95,7 +95,8 @@ class Effect:
     spring, with the seal and accumulator beside it instead of behind it),
     so that diagnose ranks the two arrangements against each other;
     ``global_search``: a model with it has basins a local solve does not
-    leave (the gap's dead zone), so the default optimizer searches it with DE.
+    always leave (the gap's dead zone), so the default optimizer checks its
+    local optimum with DE (``fit.local.run_checked``).
     """
 
     name: str

@@ -211,23 +211,20 @@ def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: i
     return np.abs(joint_residuals(model, device, layout, P, mask, substeps, weights)).sum(axis=-1)
 
 
-def polish_model(model, record, start: np.ndarray, mask=None, max_evals: int = 1000,
-                 bounds: str = "auto", per_test=()) -> tuple[np.ndarray, float]:
+def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "auto",
+                 per_test=()) -> tuple[np.ndarray, float]:
     """From ``start`` (parameters) inside the model's bounds, minimise the OF
     (of the ``mask``ed samples): (parameters, OF), never worse than
-    ``start``'s.  The local search's least squares (``fit.local``; a model
-    that declares ``global_search``: Nelder-Mead, at most ``max_evals``
-    evaluations)."""
+    ``start``'s.  The local search's least squares from that start alone
+    (``fit.local``; also for a model that declares ``global_search``: the
+    start is an optimum of a nearby problem, in the right basin)."""
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
     _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     x0 = space.to_unit(start)
     of0 = float(evaluate(x0[None, :])[0])
-    if model.global_search:
-        x, of = polish(evaluate, x0, of0, max_evals, [0])
-    else:
-        x, of, _, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None, x0)
+    x, of, _, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None, x0)
     return (start, of0) if of0 <= of else (space.to_params(x), float(of))
 
 

@@ -16,7 +16,7 @@ as the lab would have measured it had the calibrated model been the truth:
 (sigma_d, sigma_F the record's own noise estimates, e white Gaussian; a
 measured velocity column is kept, with force noise only), and the fit is
 repeated from theta on each replicate (``polish_model``: the local least
-squares on eq. 18; Nelder-Mead for a model with a gap).  With
+squares on eq. 18).  With
 theta_b the replicates' estimates:
 
     bias = mean(theta_b) - theta,  stderr = sqrt(std(theta_b)^2 + (BIAS_SHARE bias)^2),
@@ -51,8 +51,6 @@ from .layout import Layout
 
 #: bootstrap replicates of a calibration
 REPLICATES = 20
-#: Nelder-Mead evaluations of each replicate's fit (a model that declares global_search)
-REPLICATE_EVALS = 300
 #: share of the bias counted as its own uncertainty: it scales with the
 #: squared noise estimates, which the record gives to about 5-10%
 BIAS_SHARE = 0.25
@@ -114,7 +112,7 @@ def replicate(record, F_clean: np.ndarray, d_smooth: np.ndarray, sigma_F: float,
 
 
 def intervals(model, record, params, per_test=(), bounds=None, replicates: int = REPLICATES, seed=0,
-              max_evals: int = REPLICATE_EVALS, progress=None, of: float | None = None) -> Intervals:
+              progress=None, of: float | None = None) -> Intervals:
     """Bootstrap intervals of a calibration: ``params`` (the fit's columns) of
     ``model`` on ``record`` (a Record or a Device); ``bounds`` (n, 2): the
     fit's search bounds (an interval reaching one is not identified);
@@ -132,7 +130,7 @@ def intervals(model, record, params, per_test=(), bounds=None, replicates: int =
     for b in range(int(replicates)):
         tests = [replicate(test, F_clean, d_s, sigma_F, rng) for test, F_clean, d_s, sigma_F in parts]
         rep = type(device)(device.name, tests, device.weights)
-        est, _ = polish_model(model, rep, params, max_evals=max_evals, per_test=per_test)
+        est, _ = polish_model(model, rep, params, per_test=per_test)
         estimates.append(est)
         noise_ofs.append(evaluate_params(model, rep, params, per_test=per_test))
         if progress:

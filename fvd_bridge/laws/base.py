@@ -100,7 +100,8 @@ class Law:
     ``start(d, v, F) -> parameters``: its data-driven start (``starts.py``;
     None: the local search starts from a sample alone);
     ``global_search``: its objective has basins that a local solve from a
-    sample does not leave, so the default optimizer searches it globally (DE)."""
+    sample does not always leave, so the default optimizer checks its local
+    optimum globally (``fit.local.run_checked``)."""
 
     number: int
     name: str
