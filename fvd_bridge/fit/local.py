@@ -114,36 +114,43 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     count[0] += len(X)
     history = [float(np.min(of))]
 
-    last = {}
+    last = {}  # the last point's residuals and Jacobian: handed out as copies (scipy scales them in place)
 
     def fun(x):  # each solve starts where the last ended: that point is not evaluated again
-        if "x" in last and np.array_equal(last["x"], x):
-            return last["r"]
-        count[0] += 1
-        r = residuals(np.clip(x, 0.0, 1.0)[None, :])[0]
-        last["x"], last["r"] = np.array(x), np.where(np.isfinite(r), r, 1e3)
-        return last["r"]
+        if "x" not in last or not np.array_equal(last["x"], x):
+            count[0] += 1
+            r = residuals(np.clip(x, 0.0, 1.0)[None, :])[0]
+            last["x"], last["r"] = np.array(x), np.where(np.isfinite(r), r, 1e3)
+        return last["r"].copy()
 
     def jac(x):  # forward differences, one batch; the solver has just evaluated fun(x)
-        h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
-        r0 = fun(x)
-        R = residuals(x[None, :] + np.diag(h))
-        count[0] += n
-        return np.where(np.isfinite(R), (R - r0) / h[:, None], 0.0).T
+        if "xj" not in last or not np.array_equal(last["xj"], x):
+            h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
+            r0 = fun(x)
+            R = residuals(x[None, :] + np.diag(h))
+            count[0] += n
+            last["xj"], last["J"] = np.array(x), np.where(np.isfinite(R), (R - r0) / h[:, None], 0.0).T
+        return last["J"].copy()
 
-    def solve(x, shares, scale):  # soft-L1 towards L1: each solve starts where the last ended
+    def solve(x, shares, scale, callback=None):  # soft-L1 towards L1: each solve starts where the last ended
         for share in shares:
             res = least_squares(fun, x, jac=jac, bounds=(0.0, 1.0), loss="soft_l1", f_scale=share * scale,
-                                x_scale="jac", max_nfev=s.max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10)
+                                x_scale="jac", max_nfev=s.max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10,
+                                callback=callback)
             x = np.clip(res.x, 0.0, 1.0)
         return x
 
     best_x, best_of = X[int(np.argmin(of))], float(np.min(of))
     basins: list[np.ndarray] = []
     ends: list[float] = []
+
+    def known_basin(x):  # a coarse solve that reaches an earlier one's end is in its basin: stop it
+        if any(np.linalg.norm(x - b) < SAME_BASIN for b in basins):
+            raise StopIteration
+
     for i in _starts(X, of, s.starts):
         scale = max(float(np.median(np.abs(fun(X[i])))), 1e-30)
-        x = solve(X[i], SCALE_SHARES[:1], scale)
+        x = solve(X[i], SCALE_SHARES[:1], scale, known_basin)
         if any(np.linalg.norm(x - b) < SAME_BASIN for b in basins):
             continue  # an earlier start's coarse solve ended here: the same optimum
         basins.append(x)
