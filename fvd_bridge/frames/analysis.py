@@ -159,6 +159,11 @@ def frame_result(building: Building, excitation: Excitation, model: FrameModel, 
                        solver_report(stepper, steps.failed_at, t[-1], energy), list(damper))
 
 
+def free_vibration_time(periods, given: float | None = None) -> float:
+    """[s] at rest after the record: ``given``, else max(5 s, 4 T1) (T1 = periods[0] [s])."""
+    return max(5.0, 4.0 * float(periods[0])) if given is None else float(given)
+
+
 def run_frame(building: Building, motion, damper: list[tuple] | None = None, damper_tag: int = DAMPER_TAGS_FROM,
               dt_analysis: float | None = None, record_dampers: bool = True,
               free_vibration: float | None = None) -> FrameResult:
@@ -174,7 +179,7 @@ def run_frame(building: Building, motion, damper: list[tuple] | None = None, dam
     """
     excitation = Excitation.of(motion, dt_analysis)
     model = build_frame(building, damper, damper_tag)
-    t_free = max(5.0, 4.0 * model.periods[0]) if free_vibration is None else float(free_vibration)
+    t_free = free_vibration_time(model.periods, free_vibration)
     start_transient(excitation.dt, excitation.accel)
     links = model.damper_links if record_dampers else ()
     stepper, h = Stepper(algorithms_for(damper)), excitation.h

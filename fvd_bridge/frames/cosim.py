@@ -82,7 +82,7 @@ from fmpy.fmi3 import FMU3Slave, fmi3LogMessageCallback
 from scipy.optimize import brentq
 
 from ..errors import InputError
-from .analysis import FrameResult, frame_result
+from .analysis import FrameResult, frame_result, free_vibration_time
 from .model import build_frame, damper_diagonals
 from .transient import Excitation, Stepper, start_transient, step_through
 
@@ -103,16 +103,18 @@ class DamperFMU:
     set before each fmi3DoStep(t, h) are the values at t + h; F [kN] is read
     after it.  ``unzipdir``: an already extracted FMU (several instances share
     one); otherwise the FMU is extracted to a temporary folder, removed by
-    ``close``."""
+    ``close``.  ``scale``: the force and work it hands out are the FMU's
+    times this (dampers side by side, a larger device of the series)."""
 
-    def __init__(self, path, name: str = "damper", use_velocity: bool = True, unzipdir=None):
+    def __init__(self, path, name: str = "damper", use_velocity: bool = True, unzipdir=None,
+                 scale: float = 1.0):
         md = read_model_description(str(path))
         vr = {v.name: v.valueReference for v in md.modelVariables}
         self._tmp = None
         if unzipdir is None:
             self._tmp = tempfile.TemporaryDirectory(prefix="fvd_cosim-")
             unzipdir = extract(str(path), self._tmp.name)
-        self.name, self.use_velocity, self.messages = name, use_velocity, []
+        self.name, self.use_velocity, self.messages, self.scale = name, use_velocity, [], float(scale)
         self._inputs = [vr["d"], vr["v"]] if use_velocity else [vr["d"]]
         self._force, self._outputs = [vr["F"]], [vr["F"], vr["z"], vr["E"]]
         self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir,
@@ -143,11 +145,12 @@ class DamperFMU:
             said = "; ".join(self.messages[-3:]) or str(e)
             raise RuntimeError(f"{self.name}: fmi3DoStep(t = {t:g} s, h = {h:g} s) failed: {said}") from e
         self.steps += 1
-        return self.fmu.getFloat64(self._force)[0]
+        return self.scale * self.fmu.getFloat64(self._force)[0]
 
     def outputs(self) -> tuple[float, float, float]:
         """(F [kN], z, E [kN mm]) at the current communication point."""
-        return tuple(self.fmu.getFloat64(self._outputs))
+        F, z, E = self.fmu.getFloat64(self._outputs)
+        return self.scale * F, z, self.scale * E
 
     def save(self):
         """The FMU state (fmi3GetFMUState); give it back with ``free``."""
@@ -169,11 +172,11 @@ class DamperFMU:
                 self._tmp.cleanup()
 
 
-def damper_fmus(path, n: int, use_velocity: bool = True, workdir=None) -> list[DamperFMU]:
+def damper_fmus(path, n: int, use_velocity: bool = True, workdir=None, scale: float = 1.0) -> list[DamperFMU]:
     """``n`` initialized instances of one FMU, extracted once into ``workdir``
-    (a folder that must outlive them)."""
+    (a folder that must outlive them), their forces times ``scale``."""
     unzipdir = extract(str(path), str(workdir)) if workdir is not None else None
-    fmus = [DamperFMU(path, f"damper{i + 1}", use_velocity, unzipdir) for i in range(n)]
+    fmus = [DamperFMU(path, f"damper{i + 1}", use_velocity, unzipdir, scale) for i in range(n)]
     for f in fmus:
         f.initialize()
     return fmus
@@ -369,8 +372,9 @@ def probe_flexibility(dampers: FrameDampers, checkpoint: NodeCheckpoint, stepper
 
 
 def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_analysis: float | None = None,
-                     free_vibration: float = 0.0, use_velocity: bool = True, tol_d: float = 1e-6,
-                     tol_F: float = 1e-6, max_iterations: int = 10) -> tuple[FrameResult, CosimStats]:
+                     free_vibration: float | None = 0.0, use_velocity: bool = True, tol_d: float = 1e-6,
+                     tol_F: float = 1e-6, max_iterations: int = 10,
+                     force_scale: float = 1.0) -> tuple[FrameResult, CosimStats]:
     """Shake ``building`` (without dampers; rigid braces) with ``motion``
     (name, dt [s], accel [mm/s^2]) while one instance of the damper FMU at
     ``fmu_path`` per above-grade story gives its damper's force; returns the
@@ -379,11 +383,12 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
 
     scheme          'explicit' or 'iterative' (elastic members only)
     dt_analysis     [s] communication and analysis step (default the record's dt)
-    free_vibration  [s] at rest after the record
+    free_vibration  [s] at rest after the record (None: as ``run_frame``, max(5 s, 4 T1))
     use_velocity    send the frame's damper rate v to the FMU (else it derives v from d)
     tol_d           [mm] iterative: frame and FMU damper deformations agree
     tol_F           [kN] iterative: damper forces of the FMU-side solve
     max_iterations  iterative: OpenSees solves per step at most
+    force_scale     each story's damper force is the FMU's times this
     """
     if scheme not in SCHEMES:
         raise InputError(f"co-simulation scheme '{scheme}': expected one of {', '.join(SCHEMES)}")
@@ -398,6 +403,7 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
     excitation = Excitation.of(motion, dt_analysis)
     h = excitation.h
     model = build_frame(b)
+    free_vibration = free_vibration_time(model.periods, free_vibration)
     start_transient(excitation.dt, excitation.accel)
     dampers = FrameDampers(b)
     n = dampers.n
@@ -405,7 +411,7 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
     checkpoint = NodeCheckpoint() if scheme == "iterative" else None
 
     with tempfile.TemporaryDirectory(prefix="fvd_cosim-") as work:
-        fmus = damper_fmus(fmu_path, n, use_velocity, work)
+        fmus = damper_fmus(fmu_path, n, use_velocity, work, force_scale)
         try:
             wall = time.perf_counter()
             S_d = S_v = None

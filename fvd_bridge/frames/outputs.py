@@ -41,7 +41,8 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
         rows = []
         for c in cases:
             v = c.values()
-            kind = "" if c.spec is None else ("skipped" if c.result is None else ("exact" if c.exact else "approx"))
+            kind = "" if c.spec is None else ("skipped" if c.result is None else
+                                              "fmu" if c.fmu else ("exact" if c.exact else "approx"))
             rows.append([c.label, c.spec or "", c.device or "", "" if c.of is None else c.of]
                         + [_num(v[k]) for k, _, _ in QUANTITIES]
                         + [kind, " ".join(c.result.solver.algorithms_used) if c.result else "",
@@ -100,7 +101,8 @@ def format_frame_table(cases, spread: dict, text: str) -> str:
     lines = [head, "-" * len(head)]
     for c in cases:
         v = c.values()
-        notes = "; ".join(c.exceeded) if c.result is not None else f"skipped: {c.note}"
+        notes = "; ".join(["FMU co-simulation"] * c.fmu + c.exceeded) if c.result is not None else \
+            f"skipped: {c.note}"
         lines.append(f"{c.label:<{w}}" + "".join(f"{_cell(v[k]):>15}" for k, _, _ in QUANTITIES) + f"  {notes}")
     if any(len(s["devices"]) > 1 for s in spread.values()):
         lines += ["", "production series: min / mean / max (CoV) over devices"]
