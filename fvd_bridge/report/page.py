@@ -158,7 +158,8 @@ def _exports(out: str, device: str, cals: list, records: dict) -> str:
                          short(res.bound, 3), "within its bound" if res.ok else "OUTSIDE its bound"])
     parts = [table(["model", "test", "OpenSees mapping", "OF(OpenSees vs model)", "bound", "verdict"], rows,
                    "each model's OpenSees material driven with the test's motion (kN, mm, s; eq. 18 with the "
-                   "model's force as reference)")]
+                   "model's force as reference)") if rows else
+             "<p>the tests' record files are not found: no OpenSees fidelity check</p>"]
     made = [e for e in exports_of(out) if e.get("device") == device]
     if made:
         parts.append(table(
