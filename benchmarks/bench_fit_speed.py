@@ -15,7 +15,10 @@ noise.  For laws 2 and 9, best of 3 in one process:
   samples; law 9: C from the force's slope against v at speed, beta from
   the force at the velocity reversals, alpha 1/(0.1 x stroke)).
 
-Prints OF (eq. 18) beside time, and the ratios to the peer.
+Also, when lmfit is installed (``pip install lmfit``), lmfit's
+``minimize(method='least_squares')`` on the same residuals from the same
+start: it calls the same scipy solver through its Parameters.  Prints OF
+(eq. 18) beside time, and the ratios to the scipy peer.
 
     python benchmarks/bench_fit_speed.py [--repeats 3]
 """
@@ -23,6 +26,7 @@ Prints OF (eq. 18) beside time, and the ratios to the peer.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import os
 import tempfile
 import time
@@ -66,6 +70,22 @@ def peer_fit(model, rec, x0, bounds):
     return res.x, float(objective(rec.F, model.force(rec, res.x[None, :])[0], rec.t))
 
 
+def lmfit_fit(model, rec, x0, bounds):
+    """lmfit's ``minimize(method='least_squares')`` (the issue's peer) on the same
+    residuals from the same start; None when lmfit is not installed."""
+    import lmfit
+
+    params = lmfit.Parameters()
+    for name, x, (lo, hi) in zip(model.names, np.clip(x0, bounds[:, 0], bounds[:, 1]), bounds):
+        params.add(name, value=float(x), min=float(lo), max=float(hi))
+
+    def residuals(p):
+        return model.force(rec, np.array([[p[n].value for n in model.names]]))[0] - rec.F
+    out = lmfit.minimize(residuals, params, method="least_squares")
+    x = np.array([out.params[n].value for n in model.names])
+    return x, float(objective(rec.F, model.force(rec, x[None, :])[0], rec.t))
+
+
 def best_of(repeats, run):
     walls, out = [], None
     for _ in range(repeats):
@@ -88,6 +108,9 @@ def main() -> None:
         model.force(rec, bounds.mean(axis=1)[None, :])  # compile first
         peer_wall, (_, peer_of) = best_of(args.repeats, lambda: peer_fit(model, rec, start_of(law, rec), bounds))
         rows = [("scipy least_squares (peer)", peer_wall, peer_of)]
+        if importlib.util.find_spec("lmfit") is not None:
+            wall, (_, of) = best_of(args.repeats, lambda: lmfit_fit(model, rec, start_of(law, rec), bounds))
+            rows.append(("lmfit least_squares", wall, of))
         for opt in ("de", "local+de", DEFAULT_OPTIMIZER):
             wall, fit = best_of(args.repeats, lambda: fit_model(model, rec, optimizer=opt, seed=0))
             rows.append((f"fvd_bridge {opt}{' (default)' if opt == DEFAULT_OPTIMIZER else ''}", wall, fit.of))
