@@ -120,8 +120,14 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
         if "x" not in last or not np.array_equal(last["x"], x):
             count[0] += 1
             r = residuals(np.clip(x, 0.0, 1.0)[None, :])[0]
-            last["x"], last["r"] = np.array(x), np.where(np.isfinite(r), r, 1e3)
+            last["x"], last["r"], last["finite"] = np.array(x), np.where(np.isfinite(r), r, 1e3), np.isfinite(r).all()
         return last["r"].copy()
+
+    def of_at(x):  # eq. 18 at the point the last solve ended on: its residuals' absolute sum, if at hand
+        if "x" in last and np.array_equal(last["x"], x) and last["finite"]:
+            return float(np.abs(last["r"]).sum())
+        count[0] += 1
+        return float(evaluate(x[None, :])[0])
 
     def jac(x):  # forward differences, one batch; the solver has just evaluated fun(x)
         if "xj" not in last or not np.array_equal(last["xj"], x):
@@ -155,8 +161,7 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
             continue  # an earlier start's coarse solve ended here: the same optimum
         basins.append(x)
         x = solve(x, SCALE_SHARES[1:], scale)
-        f = float(evaluate(x[None, :])[0])
-        count[0] += 1
+        f = of_at(x)
         history.append(f)
         ends.append(f)
         if on_generation:
