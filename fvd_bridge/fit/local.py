@@ -19,7 +19,8 @@
    ended: the last is eq. 18's L1 but for residuals below 1/2000 of the
    start's median, so it ends at eq. 18's optimum (to 5 digits on the demo
    device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).  A start whose
-   coarse solve ends where an earlier one's did is not refined again.
+   coarse solve reaches where an earlier one's ended (SAME_BASIN) is stopped
+   there (least_squares' callback) and not refined again.
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
 The best end is kept, never worse than the caller's start.  ``run_checked``

@@ -160,13 +160,16 @@ def _exports(out: str, device: str, cals: list, records: dict) -> str:
                    "each model's OpenSees material driven with the test's motion (kN, mm, s; eq. 18 with the "
                    "model's force as reference)") if rows else
              "<p>the tests' record files are not found: no OpenSees fidelity check</p>"]
-    made = [e for e in exports_of(out) if e.get("device") == device]
+    made = []
+    for e in exports_of(out):
+        if e.get("device") == device:
+            check = e.get("check") or {}
+            made.append([e["kind"], e["model"], os.path.basename(e["file"]), e["units"],
+                         check.get("record", "not checked"), short(check.get("of"), 3), short(check.get("bound"), 3),
+                         e["written"]])
     if made:
-        parts.append(table(
-            ["export", "model", "file", "units", "checked on", "OF(export vs model)", "bound", "written"],
-            [[e["kind"], e["model"], os.path.basename(e["file"]), e["units"], (e.get("check") or {}).get("record", "not checked"),
-              short((e.get("check") or {}).get("of"), 3), short((e.get("check") or {}).get("bound"), 3), e["written"]]
-             for e in made], "the exports made (fvd-bridge export)"))
+        parts.append(table(["export", "model", "file", "units", "checked on", "OF(export vs model)", "bound",
+                            "written"], made, "the exports made (fvd-bridge export)"))
     return "\n".join(parts)
 
 
