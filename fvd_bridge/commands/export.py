@@ -190,4 +190,7 @@ def _note(cal, params_path, kind, file, units, check, exact=None) -> None:
     if out is None:
         return
     note_export(out, cal, params_path, kind, file, units, check, exact)
-    print(f"noted in {build_report(out)}", file=sys.stderr)
+    try:
+        print(f"noted in {build_report(out)}", file=sys.stderr)
+    except InputError as exc:  # the export stands; the page waits for `fvd-bridge report`
+        print(f"warning: noted in {out}/exports.json; its report.html was not built again: {exc}", file=sys.stderr)
