@@ -19,7 +19,7 @@ import os
 
 import numpy as np
 
-from .. import __version__
+from .. import __version__, timing
 from ..calibration import Calibration
 from ..io.staging import staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
@@ -121,10 +121,12 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True, ex
         _tables(stage, summary, cs)
         write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
         if figures:
-            _figures(stage, records, summary, cs)
+            with timing.stage("  figures"):
+                _figures(stage, records, summary, cs)
         if extra is not None:
             extra(stage, summary)
-        build_report(stage, shown_as=out)
+        with timing.stage("  report.html"):
+            build_report(stage, shown_as=out)
     return summary
 
 
