@@ -96,7 +96,7 @@ class Effect:
     so that diagnose ranks the two arrangements against each other;
     ``global_search``: a model with it has basins a local solve does not
     always leave (the gap's dead zone), so the default optimizer checks its
-    local optimum with DE (``fit.local.run_checked``).
+    local optimum with DE (``LocalSettings.always_check``).
     """
 
     name: str

@@ -11,7 +11,7 @@ from ..errors import InputError
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
-from .local import FROM_START, CheckedSettings, LocalSettings, run_checked, run_local
+from .local import FROM_START, LocalSettings, run_local
 from .layout import Layout
 from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, data_start, nested_start, wider_bounds
 from .objective import objective_weights
@@ -26,14 +26,10 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
     """Optimizer settings with CLI/YAML overrides (None keeps the default)."""
     if optimizer not in OPTIMIZERS:
         raise InputError(f"--optimizer '{optimizer}': expected one of {', '.join(OPTIMIZERS)}")
-    if optimizer == "local":  # pop, gens: the DE check of a model that declares global_search
+    if optimizer.startswith("local"):  # pop, gens: the DE check's (local+de: always run)
         base = LocalSettings()
-        return replace(base, search=replace(base.search, popsize=pop or base.search.popsize,
-                                            gens=gens or base.search.gens))
-    if optimizer == "local+de":
-        base = CheckedSettings()
-        return replace(base, check=replace(base.check, popsize=pop or base.check.popsize,
-                                           gens=gens or base.check.gens))
+        return replace(base, always_check=optimizer == "local+de",
+                       search=replace(base.search, popsize=pop or base.search.popsize, gens=gens or base.search.gens))
     if optimizer.startswith("ga"):
         base = GASettings()
         return GASettings(pop=pop or base.pop, gens=gens or base.gens, stall=stall or base.stall)
@@ -121,10 +117,11 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
 def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, settings, substeps, on_generation,
               start, mask, local: bool = False) -> FitResult:
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
-    above it.  ``local``: Nelder-Mead from ``start`` only (a widened bound's
-    round: the optimum moves on from where it stopped)."""
-    if optimizer == "local" and model.global_search:  # the law or an effect asks for a global check
-        optimizer, settings = "local+de", CheckedSettings(settings, settings.search)
+    above it.  ``local``: from ``start`` only (a widened bound's round: the
+    optimum moves on from where it stopped): the local search's least
+    squares, or for the other optimizers Nelder-Mead."""
+    if optimizer.startswith("local") and model.global_search:  # the law or an effect asks for a global check
+        settings = replace(settings, always_check=True)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     if start is None and optimizer.startswith("local"):  # the local search starts from the data
@@ -139,10 +136,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
         history, evals = [of], count[0] + 1
     elif optimizer == "de":
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
-    elif optimizer == "local":
+    elif optimizer.startswith("local"):
         x, of, history, evals = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0)
-    elif optimizer == "local+de":
-        x, of, history, evals = run_checked(evaluate, residuals, space.n, rng, settings, on_generation, x0)
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
@@ -222,9 +217,9 @@ def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "aut
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
     _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, mask=mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
-    x0 = space.to_unit(start)
-    of0 = float(evaluate(x0[None, :])[0])
-    x, of, _, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None, x0)
+    x, of, history, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
+                                  space.to_unit(start))
+    of0 = history[0]  # FROM_START's one sample: the start
     return (start, of0) if of0 <= of else (space.to_params(x), float(of))
 
 

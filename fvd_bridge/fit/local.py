@@ -23,11 +23,12 @@
    there (least_squares' callback) and not refined again.
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
-The best end is kept, never worse than the caller's start.  ``run_checked``
-(``local+de``) adds a global check for the doubtful: DE (``fit.de``) with
-the local optimum in its first population, stopped when nothing better
-appears.  A model whose law or effect declares ``global_search`` (law 7,
-the gap) gets that check under ``local`` too (``search``; ``fit.api``).
+The best end is kept, never worse than the caller's start.  The global
+check (``_check``, settings ``search``) is DE (``fit.de``) with the local
+optimum in its first population, stopped when nothing better appears; it
+runs when the starts found two basins, and always with ``always_check``:
+``local+de``, and a model whose law or effect declares ``global_search``
+(law 7, the gap; ``fit.api``).
 """
 
 from __future__ import annotations
@@ -51,14 +52,15 @@ class LocalSettings:
     """samples: Sobol points (a power of 2); starts: local solves from the
     best distinct ones; max_nfev: least-squares iterations each;
     polish_evals: Nelder-Mead evaluations of the final polish; search: the
-    DE check when the starts found two basins, and of a model that declares
-    ``global_search`` (``run_checked``)."""
+    DE check, run when the starts found two basins, and always with
+    ``always_check`` (``local+de``, and a model that declares ``global_search``)."""
 
     samples: int = 32
     starts: int = 2
     max_nfev: int = 40
     polish_evals: int = 0
     search: DESettings = CHECK
+    always_check: bool = False
 
 
 #: the local search from a given start alone (no sample around it)
@@ -72,7 +74,7 @@ SCALE_SHARES = (0.05, 0.005, 0.0005)
 #: an earlier start's is in the same basin: it is not refined again
 SAME_BASIN = 0.02
 #: starts whose solves end further apart in OF than this share found two
-#: basins: the local search then checks globally (``search``), as ``run_checked`` does
+#: basins: the local search then checks globally (``search``)
 DOUBT = 0.01
 #: forward-difference step in the unit cube
 FD_STEP = 1e-6
@@ -98,7 +100,8 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
     history, evaluations) as ``run_de`` does; the result is never worse
     than ``x0``."""
     x, of, history, evals, ends = _local(evaluate, residuals, n, rng, s, on_generation, x0)
-    if len(ends) > 1 and max(ends) > min(ends) * (1.0 + DOUBT):  # two basins: there may be a third, lower
+    two_basins = len(ends) > 1 and max(ends) > min(ends) * (1.0 + DOUBT)  # there may be a third, lower
+    if s.always_check or two_basins:
         x, of, more, check_evals = _check(evaluate, residuals, n, rng, s.search, on_generation, x, of)
         history, evals = history + more, evals + check_evals
     return x, of, history, evals
@@ -151,15 +154,18 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     basins: list[np.ndarray] = []
     ends: list[float] = []
 
-    def known_basin(x):  # a coarse solve that reaches an earlier one's end is in its basin: stop it
-        if any(np.linalg.norm(x - b) < SAME_BASIN for b in basins):
+    def in_known_basin(x):  # within SAME_BASIN of an earlier start's coarse end
+        return any(np.linalg.norm(x - b) < SAME_BASIN for b in basins)
+
+    def stop_in_known_basin(x):  # a coarse solve that reaches an earlier one's end: stop it there
+        if in_known_basin(x):
             raise StopIteration
 
     for i in _starts(X, of, s.starts):
         scale = max(float(np.median(np.abs(fun(X[i])))), 1e-30)
-        x = solve(X[i], SCALE_SHARES[:1], scale, known_basin)
-        if any(np.linalg.norm(x - b) < SAME_BASIN for b in basins):
-            continue  # an earlier start's coarse solve ended here: the same optimum
+        x = solve(X[i], SCALE_SHARES[:1], scale, stop_in_known_basin)
+        if in_known_basin(x):
+            continue  # the same optimum as an earlier start's
         basins.append(x)
         x = solve(x, SCALE_SHARES[1:], scale)
         f = of_at(x)
@@ -173,27 +179,6 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
         best_x, best_of = polish(evaluate, best_x, best_of, s.polish_evals, count, step=0.002)
         history.append(best_of)
     return best_x, best_of, history, count[0], ends
-
-
-@dataclass(frozen=True)
-class CheckedSettings:
-    """``local``: the local search; ``check``: the DE that searches the whole
-    cube with the local optimum in its first population and stops after
-    ``check.stall`` generations without a better point."""
-
-    local: LocalSettings = LocalSettings()
-    check: DESettings = CHECK
-
-
-def run_checked(evaluate, residuals, n: int, rng: np.random.Generator, s: CheckedSettings = CheckedSettings(),
-                on_generation=None, x0: np.ndarray | None = None):
-    """Local first, global check (``local+de``): ``run_local``, then
-    DE seeded with its optimum and stopped when nothing better appears; a
-    better point found there is solved locally again.  Returns (x, OF,
-    history, evaluations) as ``run_de`` does."""
-    x, f, history, evals, _ = _local(evaluate, residuals, n, rng, s.local, on_generation, x0)
-    x, f, more, check_evals = _check(evaluate, residuals, n, rng, s.check, on_generation, x, f)
-    return x, f, history + more, evals + check_evals
 
 
 def _check(evaluate, residuals, n, rng, s: DESettings, on_generation, x, f):

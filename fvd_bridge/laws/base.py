@@ -101,7 +101,7 @@ class Law:
     None: the local search starts from a sample alone);
     ``global_search``: its objective has basins that a local solve from a
     sample does not always leave, so the default optimizer checks its local
-    optimum globally (``fit.local.run_checked``)."""
+    optimum globally (``LocalSettings.always_check``)."""
 
     number: int
     name: str
