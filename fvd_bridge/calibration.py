@@ -227,9 +227,15 @@ class Calibration:
         """The model's spec: its law number and effects, e.g. '2+friction'."""
         return self.model.spec
 
-    def named(self) -> dict:
-        """{parameter name: value} in the model's units."""
-        return dict(zip(self.model.names, map(float, self.values)))
+    def named(self, test: str | None = None) -> dict:
+        """{parameter name: value} in the model's units.
+
+        Parameters
+        ----------
+        test : str, optional
+            Take the parameters of this test (per-test parameters, ``params_for``); None: the shared ones.
+        """
+        return dict(zip(self.model.names, map(float, self.params_for(test))))
 
     def derived(self) -> dict:
         """{name: (value, unit)}: law 8's slip force mu*N [kN]."""
@@ -384,19 +390,21 @@ class Calibration:
         """
         return name if len(self.tests) > 1 and name in [t["name"] for t in self.tests] else None
 
-    def params_for(self, test: str) -> np.ndarray:
+    def params_for(self, test: str | None = None) -> np.ndarray:
         """The parameter vector on one test.
 
         Parameters
         ----------
-        test : str
+        test : str, optional
             A test's name (InputError for another); parameters fitted per
-            test take that test's value.
+            test take that test's value.  None: the shared values.
         """
+        if test is None:
+            return self.values
         names = [t["name"] for t in self.tests]
         if test not in names:
             raise InputError(f"--test {test}: the calibration has tests {', '.join(names)}")
-        values = {**self.named(), **(self.tests[names.index(test)].get("parameters") or {})}
+        values = {**dict(zip(self.model.names, self.values)), **(self.tests[names.index(test)].get("parameters") or {})}
         return np.array([values[n] for n in self.model.names], dtype=float)
 
     def force(self, record, substeps: int = 1, test: str | None = None) -> np.ndarray:
@@ -416,8 +424,7 @@ class Calibration:
         numpy.ndarray
             The force [kN], one value per sample.
         """
-        p = self.values if test is None else self.params_for(test)
-        return self.model.force(record, p[None, :], substeps)[0]
+        return self.model.force(record, self.params_for(test)[None, :], substeps)[0]
 
     @classmethod
     def from_fit(cls, model, fit, record, settings: dict | None = None, warnings=(), runs: dict | None = None,

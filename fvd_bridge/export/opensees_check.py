@@ -156,8 +156,7 @@ def check_on_record(cal, record, export=None, test: str | None = None) -> CheckR
     from the record's velocity (trapezoidal rule, from 0 where OpenSees
     materials start), so that displacement noise, which the derived velocity
     has smoothed away, reaches neither."""
-    values = cal.values if test is None else cal.params_for(test)
-    params = dict(zip(cal.model.names, map(float, values)))
+    params = cal.named(test)
     export = export or opensees_export(cal.model, params, tag=1)
     t, v = record.t, record.v
     d = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
