@@ -54,6 +54,11 @@ def unit_system(text, where: str = "--units") -> dict:
     return dict(zip("Fdt", parts))
 
 
+def system_text(system: dict = SYSTEM) -> str:
+    """{F, d, t} -> 'kN,mm,s' (FORCE,LENGTH,TIME, as ``unit_system`` reads it)."""
+    return ",".join(system[k] for k in "Fdt")
+
+
 def in_system(value: float, unit: str, system: dict, exponents: dict | None = None) -> float:
     """``value`` in the registry's ``unit`` string (kN, mm, s; e.g.
     'kN/(mm/s)^alpha', an exponent named by a parameter in ``exponents``)

@@ -10,6 +10,7 @@ from ..errors import InputError
 from ..fit import objective
 from ..golden import golden_record, reference_input
 from ..io.staging import atomic_file
+from ..units import system_text
 from .common import CALIBRATION_RECORD, add_record_options, read_as_calibrated, read_records
 
 
@@ -90,8 +91,7 @@ def run_opensees(args) -> int:
         print(f"wrote {args.output}: model {cal.spec}, damper material {export.tag} "
               f"({'exact' if export.exact else 'approximate: ' + export.note})", file=sys.stderr)
         check = None if res is None else {"record": record.name, "of": res.of, "bound": res.bound, "ok": res.ok}
-        units = ",".join(export.units[k] for k in ("F", "d", "t"))
-        _note(cal, args.params, "opensees", args.output, units, check, export.exact)
+        _note(cal, args.params, "opensees", args.output, system_text(export.units), check, export.exact)
     else:
         sys.stdout.write(script)
     return 0
@@ -175,7 +175,7 @@ def run_fmu(args) -> int:
         if os.path.exists(tmp):
             os.remove(tmp)
     print(f"wrote {args.output}: model {cal.spec}, FMI 3.0 co-simulation, validated", file=sys.stderr)
-    _note(cal, args.params, "fmu", args.output, "kN,mm,s",
+    _note(cal, args.params, "fmu", args.output, system_text(),  # the FMU speaks kN, mm, s
           {"record": record.name, "of": of_mirror, "bound": OF_BOUND, "ok": True, "of_d_only": of_d})
     return 0
 

@@ -148,7 +148,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
             case.exact, case.note, commands = export.exact, export.note, export.commands
         except InputError as exc:
             case.note = str(exc)
-            case.fmu = not cal.model.exports(cal.named())["fmu"]
+            case.fmu = not cal.model.fmu_refusal()
             if case.fmu:
                 case.note = (f"co-simulated with its FMU, explicit scheme, step {COSIM_STEP:g} s at most "
                              f"(OpenSees: {exc})")
