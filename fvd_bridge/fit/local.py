@@ -14,7 +14,7 @@
    known OF from 5 to 3 of 288 fits (benchmarks/bench_optimizers.py --broad).
 2. From each, trust-region least squares on the weighted residuals whose
    absolute sum is eq. 18 (scipy ``least_squares``, soft-L1 loss, Jacobian
-   by forward differences: one batch of n points per iteration), its loss
+   by forward differences, computed with each point in one batch of n + 1), its loss
    scale lowered in SCALE_SHARES steps, each solve starting where the last
    ended: the last is eq. 18's L1 but for residuals below 1/2000 of the
    start's median, so it ends at eq. 18's optimum (to 5 digits on the demo
@@ -120,11 +120,16 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
 
     last = {}  # the last point's residuals and Jacobian: handed out as copies (scipy scales them in place)
 
-    def fun(x):  # each solve starts where the last ended: that point is not evaluated again
+    def fun(x):  # the residuals at x and its forward-difference neighbours, one batch (one SIMD block of
+        # the differential laws' kernels: the Jacobian's n points cost about what x's alone does)
         if "x" not in last or not np.array_equal(last["x"], x):
-            count[0] += 1
-            r = residuals(np.clip(x, 0.0, 1.0)[None, :])[0]
-            last["x"], last["r"], last["finite"] = np.array(x), np.where(np.isfinite(r), r, 1e3), np.isfinite(r).all()
+            x = np.clip(x, 0.0, 1.0)
+            h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
+            R = residuals(np.vstack([x, x[None, :] + np.diag(h)]))
+            count[0] += n + 1
+            r = np.where(np.isfinite(R[0]), R[0], 1e3)
+            last["x"], last["r"], last["finite"] = np.array(x), r, np.isfinite(R[0]).all()
+            last["J"] = np.where(np.isfinite(R[1:]), (R[1:] - r) / h[:, None], 0.0).T
         return last["r"].copy()
 
     def of_at(x):  # eq. 18 at the point the last solve ended on: its residuals' absolute sum, if at hand
@@ -133,13 +138,8 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
         count[0] += 1
         return float(evaluate(x[None, :])[0])
 
-    def jac(x):  # forward differences, one batch; the solver has just evaluated fun(x)
-        if "xj" not in last or not np.array_equal(last["xj"], x):
-            h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
-            r0 = fun(x)
-            R = residuals(x[None, :] + np.diag(h))
-            count[0] += n
-            last["xj"], last["J"] = np.array(x), np.where(np.isfinite(R), (R - r0) / h[:, None], 0.0).T
+    def jac(x):  # the solver has just evaluated fun(x)
+        fun(x)
         return last["J"].copy()
 
     def solve(x, shares, scale, callback=None):  # soft-L1 towards L1: each solve starts where the last ended

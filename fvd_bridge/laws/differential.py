@@ -31,10 +31,12 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 # Blocks of members integrated together; the width is the length of a tuple,
 # so that numba compiles it as a constant.  Populations go 32 members a block
-# (16 for law 7, whose Newton steps wait for a block's slowest member), fewer
-# than 4 members one by one (an optimizer's polish evaluates one at a time).
-LANES_32, LANES_16, LANES_1 = (0.0,) * 32, (0.0,) * 16, (0.0,)
-NARROW_BELOW = 4
+# (16 for law 7, whose Newton steps wait for a block's slowest member); up to
+# NARROW_UPTO members go 4 a block (a local search's point and its
+# forward-difference neighbours: about the time of one member alone), and one
+# member alone (a polish's single evaluation).
+LANES_32, LANES_16, LANES_4, LANES_1 = (0.0,) * 32, (0.0,) * 16, (0.0,) * 4, (0.0,)
+NARROW_UPTO = 12
 parallel_driver = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model="numpy")
 
 # Rows of a block's work array (one value per member): the state, the
@@ -55,7 +57,7 @@ def _run(driver, wide, d, v, dt, substeps, *columns):
     members, or 1) by repeating the last member; returns F (pop, n_t) [kN]."""
     table = np.vstack(np.broadcast_arrays(*[np.asarray(col, dtype=float) for col in columns]))
     pop = table.shape[1]
-    lanes = LANES_1 if pop < NARROW_BELOW else wide
+    lanes = LANES_1 if pop == 1 else LANES_4 if pop <= NARROW_UPTO else wide
     pad = np.repeat(table[:, -1:], -pop % len(lanes), axis=1)
     c = np.ascontiguousarray(np.concatenate([table, pad], axis=1))
     return driver(d, v, dt, c, substeps, lanes)[:pop]
