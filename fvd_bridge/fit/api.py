@@ -124,18 +124,19 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
         settings = replace(settings, always_check=True)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
-    if start is None and optimizer.startswith("local"):  # the local search starts from the data
+    if start is None and optimizer.startswith("local"):  # the local search starts from the data's candidates
         start = data_start(model, device, layout.per_test)
-    p0 = None if start is None else np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
-    x0 = None if p0 is None else space.to_unit(p0)
+    p0 = None if start is None else np.clip(np.atleast_2d(np.asarray(start, dtype=float)), b[:, 0], b[:, 1])
+    x0 = None if p0 is None else space.to_unit(p0)  # (k, n): one row, or the data's k candidates
     if local and x0 is not None and optimizer.startswith("local"):
         x, of, history, evals = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0)
     elif local and x0 is not None:
         count = [0]
-        x, of = polish(evaluate, x0, float(evaluate(x0[None, :])[0]), WIDEN_EVALS, count)
+        x, of = polish(evaluate, x0[0], float(evaluate(x0[:1])[0]), WIDEN_EVALS, count)
         history, evals = [of], count[0] + 1
     elif optimizer == "de":
-        x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation, x0)
+        x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation,
+                                       None if x0 is None else x0[0])
     elif optimizer.startswith("local"):
         x, of, history, evals = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0)
     else:
@@ -147,9 +148,9 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
             history.append(of)
     params = space.to_params(x)
     if p0 is not None:  # the start itself, exactly (not through the unit cube)
-        of0 = float(joint_objective(model, device, layout, p0[None, :], mask, substeps)[0])
-        if of0 <= of:
-            params, of = p0, of0
+        of0 = joint_objective(model, device, layout, p0, mask, substeps)
+        if np.min(of0) <= of:
+            params, of = p0[int(np.argmin(of0))], float(np.min(of0))
     return FitResult(spec=model.spec, names=layout.names, units=layout.repeat(model.units),
                      params=params, of=float(of), bounds=b, bounds_mode=mode,
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,

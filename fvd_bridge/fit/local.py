@@ -1,10 +1,11 @@
 """Local first: a fit that starts where the answer is (the default optimizer, ``local``).
 
-1. The starts: the law's data-driven start (``laws/starts.py``, through
-   ``fit.api``) and a Sobol sample of the unit cube (``samples`` points, one
-   batch of the vectorised kernels); the ``starts`` best points that lie
-   apart from each other, the data's start among them.  Two starts are the
-   multi-start check: when their solves end in basins whose OFs differ by
+1. The starts: the law's data-driven starts (``laws/starts.py``, through
+   ``fit.api``: one, or a candidate per reading of the data) and a Sobol
+   sample of the unit cube (``samples`` points, one batch of the vectorised
+   kernels); each data start, then the best sample points, that lie apart
+   from each other, ``starts`` of them (or as many as the data gave).  Two
+   starts are the multi-start check: when their solves end in basins whose OFs differ by
    more than DOUBT, the objective has several and the search checks
    globally (below).  On the demo series (laws 1-6, 8-10, 5 devices, 20
    seeds) every fit ended on the best OF that DE seeded with it finds
@@ -36,10 +37,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 from scipy.stats import qmc
 
 from .de import DESettings, polish, run_de
+from .trf import least_squares_soft_l1
 
 
 #: the global check after a local search: DE with population 8 per parameter,
@@ -80,16 +81,17 @@ DOUBT = 0.01
 FD_STEP = 1e-6
 
 
-def _starts(X: np.ndarray, of: np.ndarray, k: int) -> list[int]:
-    """Indices of the k best finite points, each DISTINCT from the ones before."""
+def _starts(X: np.ndarray, of: np.ndarray, k: int, given: int = 0) -> list[int]:
+    """Indices of the start points: the ``given`` first rows of X (the
+    caller's, best first), then the best others, each finite and DISTINCT
+    from the ones before: k in all, and at least one of the others."""
     chosen: list[int] = []
-    for i in np.argsort(of):
-        if not np.isfinite(of[i]):
+    order = [int(i) for i in np.argsort(of[:given])] + [given + int(i) for i in np.argsort(of[given:])]
+    for i in order:
+        if len(chosen) >= k and (given == 0 or chosen[-1] >= given):
             break
-        if all(np.linalg.norm(X[i] - X[j]) > DISTINCT for j in chosen):
-            chosen.append(int(i))
-        if len(chosen) == k:
-            break
+        if np.isfinite(of[i]) and all(np.linalg.norm(X[i] - X[j]) > DISTINCT for j in chosen):
+            chosen.append(i)
     return chosen
 
 
@@ -98,7 +100,7 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
     """Minimise eq. 18 over [0, 1]^n: ``evaluate(X) -> OF`` (pop,), and
     ``residuals(X) -> R`` (pop, m) with sum |R| = OF.  Returns (x, OF,
     history, evaluations) as ``run_de`` does; the result is never worse
-    than ``x0``."""
+    than ``x0``'s (one point, or (k, n): the local search solves from each)."""
     x, of, history, evals, ends = _local(evaluate, residuals, n, rng, s, on_generation, x0)
     two_basins = len(ends) > 1 and max(ends) > min(ends) * (1.0 + DOUBT)  # there may be a third, lower
     if s.always_check or two_basins:
@@ -111,26 +113,30 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     """``run_local``, and the OF at which each distinct basin's solve ended."""
     count = [0]
     sampler = qmc.Sobol(n, scramble=True, seed=rng)
-    X = sampler.random(s.samples)
-    if x0 is not None:
-        X[0] = np.clip(x0, 0.0, 1.0)
+    x0 = np.empty((0, n)) if x0 is None else np.clip(np.atleast_2d(x0), 0.0, 1.0)
+    X = sampler.random(max(s.samples, len(x0)))
+    X[:len(x0)] = x0
     of = evaluate(X)
     count[0] += len(X)
     history = [float(np.min(of))]
 
-    last = {}  # the last point's residuals and Jacobian: handed out as copies (scipy scales them in place)
+    last = {}  # the last point's residuals and Jacobian
 
-    def fun(x):  # the residuals at x and its forward-difference neighbours, one batch (one SIMD block of
+    def fun_jac(x):  # the residuals at x and its forward-difference neighbours, one batch (one SIMD block of
         # the differential laws' kernels: the Jacobian's n points cost about what x's alone does)
         if "x" not in last or not np.array_equal(last["x"], x):
             x = np.clip(x, 0.0, 1.0)
             h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
             R = residuals(np.vstack([x, x[None, :] + np.diag(h)]))
             count[0] += n + 1
-            r = np.where(np.isfinite(R[0]), R[0], 1e3)
-            last["x"], last["r"], last["finite"] = np.array(x), r, np.isfinite(R[0]).all()
-            last["J"] = np.where(np.isfinite(R[1:]), (R[1:] - r) / h[:, None], 0.0).T
-        return last["r"].copy()
+            finite = np.isfinite(R)
+            if finite.all():
+                r, J = R[0], ((R[1:] - R[0]) / h[:, None]).T
+            else:
+                r = np.where(finite[0], R[0], 1e3)
+                J = np.where(finite[1:], (R[1:] - r) / h[:, None], 0.0).T
+            last["x"], last["r"], last["J"], last["finite"] = np.array(x), r, J, finite[0].all()
+        return last["r"], last["J"]
 
     def of_at(x):  # eq. 18 at the point the last solve ended on: its residuals' absolute sum, if at hand
         if "x" in last and np.array_equal(last["x"], x) and last["finite"]:
@@ -138,16 +144,13 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
         count[0] += 1
         return float(evaluate(x[None, :])[0])
 
-    def jac(x):  # the solver has just evaluated fun(x)
-        fun(x)
-        return last["J"].copy()
+    lower, upper = np.zeros(n), np.ones(n)
 
     def solve(x, shares, scale, callback=None):  # soft-L1 towards L1: each solve starts where the last ended
         for share in shares:
-            res = least_squares(fun, x, jac=jac, bounds=(0.0, 1.0), loss="soft_l1", f_scale=share * scale,
-                                x_scale="jac", max_nfev=s.max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                                callback=callback)
-            x = np.clip(res.x, 0.0, 1.0)
+            x, _, _ = least_squares_soft_l1(fun_jac, x, lower, upper, share * scale, s.max_nfev, 1e-10, 1e-10,
+                                            1e-10, callback)
+            x = np.clip(x, 0.0, 1.0)
         return x
 
     best_x, best_of = X[int(np.argmin(of))], float(np.min(of))
@@ -161,8 +164,8 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
         if in_known_basin(x):
             raise StopIteration
 
-    for i in _starts(X, of, s.starts):
-        scale = max(float(np.median(np.abs(fun(X[i])))), 1e-30)
+    for i in _starts(X, of, s.starts, len(x0)):
+        scale = max(float(np.median(np.abs(fun_jac(X[i])[0]))), 1e-30)
         x = solve(X[i], SCALE_SHARES[:1], scale, stop_in_known_basin)
         if in_known_basin(x):
             continue  # the same optimum as an earlier start's

@@ -46,14 +46,16 @@ def nested_start(model, record, parent_names, parent_params, per_test=()) -> np.
 
 
 def data_start(model, record, per_test=()) -> np.ndarray | None:
-    """The law's data-driven start (``Law.start`` on all tests' samples
-    together) with each effect off, as ``nested_start`` lays it out; None
-    when the law has none."""
+    """The law's data-driven starts (``Law.start`` on all tests' samples
+    together: one or more candidate sets), each with every effect off, as
+    ``nested_start`` lays it out: (k, n_cols); None when the law has none."""
     if model.law.start is None:
         return None
     device = as_device(record)
     d, v, F = (np.concatenate([getattr(t, k) for t in device.tests]) for k in "dvF")
-    return nested_start(model, device, model.law.names, model.law.start(d, v, F), per_test)
+    sets = model.law.start(d, v, F)
+    sets = sets if isinstance(sets, list) else [sets]
+    return np.array([nested_start(model, device, model.law.names, p, per_test) for p in sets])
 
 
 def wider_bounds(model, fit, fixed=()) -> dict:

@@ -9,9 +9,13 @@ a sinusoidal loop: d [mm], v [mm/s], F [kN] of all tests together.
   is smallest against it;
 - a parallel spring K1: the slope of F against d over the slowest tenth,
   where the viscous term vanishes;
-- a friction or bristle force Ff: the median |F| over the slowest tenth
-  (at a reversal the hysteretic variable is still saturated), with the
-  saturation travel set to a tenth of the stroke.
+- a friction or bristle force Ff, read twice: the median |F| over the
+  slowest tenth (at a reversal the hysteretic variable is still
+  saturated), and the intercept of |F| against |v| at speed; the
+  saturation travel a tenth of the stroke.
+
+A law returns its parameters, or a list of candidate sets (the hysteretic
+laws: one per reading of Ff); the local search solves from each.
 """
 
 from __future__ import annotations
@@ -48,15 +52,21 @@ def spring(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> float:
     return max(float(np.polyfit(d[slow], F[slow], 1)[0]), 0.0)
 
 
-def hysteretic(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> tuple[float, float, float]:
-    """(Ff [kN], y [mm], C [kN/(mm/s)]): the friction force at the reversals,
-    its saturation travel and the linear viscous term of the remainder."""
-    Ff = float(np.median(np.abs(F[_slow(v)])))
+def hysteretic(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> list[tuple[float, float, float]]:
+    """Two readings of (Ff [kN], y [mm], C [kN/(mm/s)]): the friction force,
+    its saturation travel and the linear viscous term.  At the reversals:
+    Ff the median |F| there, C from the remainder at speed; at speed: the
+    line |F| = Ff + C |v| over the fastest half.  The first misses the
+    friction of a device whose connection has play (the force drops while
+    the play closes at each reversal), the second a concave viscous term's
+    share; the local search solves from both."""
     y = SATURATION_SHARE * max(float(np.ptp(d)) / 2.0, 1e-9)
     fast = _fast(v)
+    Ff = float(np.median(np.abs(F[_slow(v)])))
     rest = F[fast] - Ff * np.sign(v[fast])
     C = max(float(np.sum(rest * v[fast]) / max(np.sum(v[fast] ** 2), 1e-30)), 0.0)
-    return Ff, y, C
+    slope, icept = np.polyfit(np.abs(v[fast]), np.abs(F[fast]), 1) if fast.sum() >= 2 else (C, Ff)
+    return [(Ff, y, C), (max(float(icept), 1e-9), y, max(float(slope), 0.0))]
 
 
 def law1(d, v, F):
@@ -84,20 +94,17 @@ def law5(d, v, F):
 
 def law6(d, v, F):
     """alpha 0.05; z saturates at 1/(2 beta) = y, the hysteretic force (1-alpha) K y = Ff."""
-    Ff, y, C = hysteretic(d, v, F)
-    return C, Ff / (0.95 * y), 0.05, 1.0 / (2.0 * y)
+    return [(C, Ff / (0.95 * y), 0.05, 1.0 / (2.0 * y)) for Ff, y, C in hysteretic(d, v, F)]
 
 
 def law8(d, v, F):
     """mu N = Ff (mu 0.5), slipping after a travel y: K = Ff / y."""
-    Ff, y, C = hysteretic(d, v, F)
-    return C, Ff / y, 0.5, 2.0 * Ff
+    return [(C, Ff / y, 0.5, 2.0 * Ff) for Ff, y, C in hysteretic(d, v, F)]
 
 
 def law9(d, v, F):
     """z saturates at 1/alpha = y, the bristle force beta / alpha = Ff."""
-    Ff, y, C = hysteretic(d, v, F)
-    return C, 1.0 / y, Ff / y
+    return [(C, 1.0 / y, Ff / y) for Ff, y, C in hysteretic(d, v, F)]
 
 
 #: law 10's relief knee, as a share of the peak velocity

@@ -1,0 +1,97 @@
+"""The local search's least squares (fvd_bridge/fit/trf.py) against scipy's
+``least_squares(method='trf', loss='soft_l1', x_scale='jac')``, the
+algorithm it restates on the n x n normal form: the same iterates, the
+same stopping reason, the same answer, on a nonlinear problem with
+outliers (an interior optimum, and one on a bound), and where the Jacobian
+has a null direction (its QR path)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import least_squares
+
+from fvd_bridge.fit.trf import least_squares_soft_l1, normal_form
+
+T = np.linspace(0.0, 4.0, 800)
+
+
+def decay(x):
+    return 3.0 * x[0] * np.exp(-4.0 * x[1] * T) + x[2] * np.sin(5.0 * T)
+
+
+def decay_jac(x):
+    e = np.exp(-4.0 * x[1] * T)
+    return np.column_stack([3.0 * e, -12.0 * x[0] * T * e, np.sin(5.0 * T)])
+
+
+def data(truth, seed=1):
+    rng = np.random.default_rng(seed)
+    y = decay(np.array(truth)) + 0.05 * rng.standard_normal(T.size)
+    y[::37] += 2.0  # outliers: the robust loss's reason
+    return y
+
+
+@pytest.mark.parametrize("truth", [(0.6, 0.3, 0.2), (0.6, 0.3, 1.3)], ids=["interior", "on a bound"])
+@pytest.mark.parametrize("x0", [(0.1, 0.9, 0.9), (0.9, 0.05, 0.01), (0.5, 0.5, 0.5)])
+@pytest.mark.parametrize("f_scale", [0.05, 0.005])
+def test_the_iterates_are_scipys(truth, x0, f_scale):
+    y = data(truth)
+    ref = least_squares(lambda x: decay(x) - y, x0, jac=decay_jac, bounds=(0.0, 1.0), loss="soft_l1",
+                        f_scale=f_scale, x_scale="jac", max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10)
+    x, status, nfev = least_squares_soft_l1(lambda x: (decay(x) - y, decay_jac(x)), x0, np.zeros(3), np.ones(3),
+                                            f_scale, 40, 1e-10, 1e-10, 1e-10)
+    assert (nfev, status) == (ref.nfev, ref.status)
+    np.testing.assert_allclose(x, ref.x, atol=1e-9)
+    if truth[2] > 1.0:
+        assert x[2] == pytest.approx(1.0, abs=1e-6)  # the third parameter ends on its upper bound
+
+
+def test_a_null_direction_takes_the_qr_path_and_the_same_answer():
+    """x[2] and x[3] enter as their sum only: J has a null direction (the
+    Gram matrix is singular), so R comes from a QR factorisation; the cost
+    reached is scipy's, and the sum x[2] + x[3] is."""
+    y = data((0.6, 0.3, 0.4))
+
+    def fun(x):
+        return decay(np.array([x[0], x[1], x[2] + x[3]])) - y
+
+    def jac(x):
+        J = decay_jac(np.array([x[0], x[1], x[2] + x[3]]))
+        return np.column_stack([J, J[:, 2]])
+
+    x0 = np.array([0.5, 0.5, 0.1, 0.1])
+    _, R, _ = normal_form(fun(x0), jac(x0), 0.05)
+    assert abs(R[-1, -1]) < 1e-10 * np.abs(R).max()  # QR's R: the null direction's pivot is round-off
+    np.testing.assert_allclose(R.T @ R, _scaled_gram(fun(x0), jac(x0), 0.05), atol=1e-10 * np.abs(R.T @ R).max())
+    ref = least_squares(fun, x0, jac=jac, bounds=(0.0, 1.0), loss="soft_l1", f_scale=0.05, x_scale="jac",
+                        max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10)
+    x, _, _ = least_squares_soft_l1(lambda x: (fun(x), jac(x)), x0, np.zeros(4), np.ones(4), 0.05, 40,
+                                    1e-10, 1e-10, 1e-10)
+    assert normal_form(fun(x), jac(x), 0.05)[0] == pytest.approx(ref.cost, rel=1e-8)
+    assert x[2] + x[3] == pytest.approx(ref.x[2] + ref.x[3], abs=1e-6)
+
+
+def _scaled_gram(r, J, f_scale):
+    """J_s^T J_s by scipy's own scaling (``scale_for_robust_loss_function``)."""
+    from scipy.optimize._lsq.common import scale_for_robust_loss_function
+    from scipy.optimize._lsq.least_squares import construct_loss_function
+
+    rho = construct_loss_function(r.size, "soft_l1", f_scale)(r.copy())
+    Js, _ = scale_for_robust_loss_function(J.copy(), r.copy(), rho)
+    return Js.T @ Js
+
+
+def test_a_callback_stops_the_solve_where_it_is():
+    y = data((0.6, 0.3, 0.2))
+    seen = []
+
+    def stop_on_third(x):
+        seen.append(x.copy())
+        if len(seen) == 3:
+            raise StopIteration
+
+    x, status, _ = least_squares_soft_l1(lambda x: (decay(x) - y, decay_jac(x)), (0.1, 0.9, 0.9), np.zeros(3),
+                                         np.ones(3), 0.05, 40, 1e-10, 1e-10, 1e-10, stop_on_third)
+    assert status == -2 and len(seen) == 3
+    np.testing.assert_array_equal(x, seen[-1])
