@@ -6,7 +6,7 @@ tool) of a law-2 device with a 150 kN/mm oil column, the paper protocol
 noise.  For laws 2 and 9, best of 3 in one process:
 
 - fvd_bridge's default fit ``local`` (least squares on eq. 18 from the
-  law's data-driven start and a Sobol sample's), ``local+de`` (the same,
+  law's data-driven starts and a Sobol sample's), ``local+de`` (the same,
   then a DE check) and ``de`` (DE and its Nelder-Mead polish, the default
   up to version 0.2.0);
 - the peer: scipy ``least_squares`` (the solver lmfit's ``least_squares``

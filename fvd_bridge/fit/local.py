@@ -3,25 +3,26 @@
 1. The starts: the law's data-driven starts (``laws/starts.py``, through
    ``fit.api``: one, or a candidate per reading of the data) and a Sobol
    sample of the unit cube (``samples`` points, one batch of the vectorised
-   kernels); each data start, then the best sample points, that lie apart
-   from each other, ``starts`` of them (or as many as the data gave).  Two
-   starts are the multi-start check: when their solves end in basins whose OFs differ by
-   more than DOUBT, the objective has several and the search checks
-   globally (below).  On the demo series (laws 1-6, 8-10, 5 devices, 20
-   seeds) every fit ended on the best OF that DE seeded with it finds
+   kernels): each data start, then the best sample points, each apart from
+   the ones before; ``starts`` in all, and at least one sample point.  The
+   starts are the multi-start check: when their solves end in basins whose
+   OFs differ by more than DOUBT, the objective has several and the search
+   checks globally (below).  On the demo series (laws 1-6, 8-10, 5 devices,
+   20 seeds) every fit ended on the best OF that DE seeded with it finds
    (benchmarks/bench_optimizers.py); on 16 varied records (rig devices with
    each effect, under the paper's and an acceptance protocol, and the four
-   shared lab records) the check took the misses beyond 1% of the best
-   known OF from 5 to 3 of 288 fits (benchmarks/bench_optimizers.py --broad).
+   shared lab records) 3 of 288 fits end beyond 1% of the best known OF,
+   against 4 for DE (benchmarks/bench_optimizers.py --broad).
 2. From each, trust-region least squares on the weighted residuals whose
-   absolute sum is eq. 18 (scipy ``least_squares``, soft-L1 loss, Jacobian
-   by forward differences, computed with each point in one batch of n + 1), its loss
-   scale lowered in SCALE_SHARES steps, each solve starting where the last
-   ended: the last is eq. 18's L1 but for residuals below 1/2000 of the
-   start's median, so it ends at eq. 18's optimum (to 5 digits on the demo
-   device, laws 1-6, 8, 9: benchmarks/bench_fit_speed.py).  A start whose
-   coarse solve reaches where an earlier one's ended (SAME_BASIN) is stopped
-   there (least_squares' callback) and not refined again.
+   absolute sum is eq. 18 (``fit.trf``: scipy's trf on the n x n normal
+   form; soft-L1 loss; the Jacobian by forward differences, computed with
+   its point in one batch of n + 1), its loss scale lowered in SCALE_SHARES
+   steps, each solve starting where the last ended: the last is eq. 18's L1
+   but for residuals below 1/2000 of the start's median, so it ends at eq.
+   18's optimum (to 5 digits on the demo device, laws 1-6, 8, 9:
+   benchmarks/bench_fit_speed.py).  A start whose coarse solve reaches
+   where an earlier one's ended (SAME_BASIN) is stopped there (the solver's
+   callback) and not refined again.
 3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
 The best end is kept, never worse than the caller's start.  The global
@@ -50,8 +51,8 @@ CHECK = DESettings(popsize=8, polish=False, stall=20)
 
 @dataclass(frozen=True)
 class LocalSettings:
-    """samples: Sobol points (a power of 2); starts: local solves from the
-    best distinct ones; max_nfev: least-squares iterations each;
+    """samples: Sobol points (a power of 2); starts: local solves (each data
+    start, then the best distinct sample points; at least one); max_nfev: least-squares iterations each;
     polish_evals: Nelder-Mead evaluations of the final polish; search: the
     DE check, run when the starts found two basins, and always with
     ``always_check`` (``local+de``, and a model that declares ``global_search``)."""
