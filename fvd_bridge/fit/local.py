@@ -51,11 +51,12 @@ CHECK = DESettings(popsize=8, polish=False, stall=20)
 
 @dataclass(frozen=True)
 class LocalSettings:
-    """samples: Sobol points (a power of 2); starts: local solves (each data
-    start, then the best distinct sample points; at least one); max_nfev: least-squares iterations each;
-    polish_evals: Nelder-Mead evaluations of the final polish; search: the
-    DE check, run when the starts found two basins, and always with
-    ``always_check`` (``local+de``, and a model that declares ``global_search``)."""
+    """samples: Sobol points (a power of 2); starts: local solves (each
+    data start, then the best distinct sample points, at least one);
+    max_nfev: least-squares iterations each; polish_evals: Nelder-Mead
+    evaluations of the final polish; search: the DE check, run when the
+    starts found two basins, and always with ``always_check``
+    (``local+de``, and a model that declares ``global_search``)."""
 
     samples: int = 32
     starts: int = 2
