@@ -20,6 +20,8 @@ import os
 import re
 from html import escape
 
+import numpy as np
+
 from .. import __version__
 from ..calibration import Calibration
 from ..io.staging import atomic_file
@@ -84,6 +86,14 @@ def _series_nominal(cals: dict) -> dict:
     return by_spec
 
 
+def _series_force(series_cals: list, rec) -> float:
+    """The series' nominal force [kN] on a record's motion: the mean over the
+    series' devices of their calibrated model's peak |F|, the devices'
+    parameter vectors run as one population (one batch of the kernels)."""
+    P = np.array([c.params_for(c.test_named(rec.name)) for c in series_cals])
+    return float(np.abs(series_cals[0].model.force(rec, P)).max(axis=1).mean())
+
+
 def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance: float) -> str:
     """The device's acceptance table: its tests checked against the series'
     best model (the lowest OF) as the nominal."""
@@ -94,8 +104,7 @@ def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance:
         if rec is None:
             notes.append(f"{test['name']}: its record file is not found; no acceptance checks")
             continue
-        nominal = sum(float(abs(c.force(rec, test=c.test_named(rec.name))).max())
-                      for c in series[best.spec]) / len(series[best.spec])
+        nominal = _series_force(series[best.spec], rec)
         for chk in checks_of_test(rec, nominal, tolerance):
             rows.append((chk, f"{chk.deviation:.1%}"))
     body = "".join(
