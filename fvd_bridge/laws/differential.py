@@ -53,8 +53,9 @@ MAXWELL_PARS = 19  # law 7: first parameter row (C, alpha, K, beta)
 
 def _run(driver, wide, d, v, dt, substeps, *columns):
     """driver(d, v, dt, c, substeps, lanes) on the table c (n_par, n) of the
-    members' parameter columns, n padded to whole blocks (of len(wide)
-    members, or 1) by repeating the last member; returns F (pop, n_t) [kN]."""
+    members' parameter columns, n padded to whole blocks (one member alone,
+    up to NARROW_UPTO in blocks of 4, more in blocks of len(wide)) by
+    repeating the last member; returns F (pop, n_t) [kN]."""
     table = np.vstack(np.broadcast_arrays(*[np.asarray(col, dtype=float) for col in columns]))
     pop = table.shape[1]
     lanes = LANES_1 if pop == 1 else LANES_4 if pop <= NARROW_UPTO else wide
