@@ -49,27 +49,49 @@ def _init_worker():
 class Processes:
     """A local process pool of ``jobs`` workers (0: one per core), each numba
     kernel on one thread; 'forkserver' (or 'spawn'), never 'fork': a child
-    forked after numba's thread pool started can hang or die."""
+    forked after numba's thread pool started can hang or die.  Inside ``with
+    Processes(jobs) as ex:`` one pool serves every ``run`` (a campaign's
+    fits, then its figures: the workers start once, about 1 s); outside it
+    each run starts and ends its own."""
 
     def __init__(self, jobs: int = 0):
         self.jobs = jobs or os.cpu_count() or 1
+        self._shared = False
+        self._pool = None
+
+    def __enter__(self):
+        self._shared = True
+        return self
+
+    def __exit__(self, exc_type, *_):
+        pool, self._pool, self._shared = self._pool, None, False
+        if pool is not None:
+            pool.shutdown(wait=True) if exc_type is None else stop(pool)
+        return False
+
+    def _start(self) -> ProcessPoolExecutor:
+        method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+        return ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker,
+                                   mp_context=multiprocessing.get_context(method))
 
     def run(self, fn, items):
         items = list(items)
         if self.jobs == 1 or len(items) <= 1:
             yield from Serial().run(fn, items)
             return
-        method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-        pool = ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker,
-                                   mp_context=multiprocessing.get_context(method))
+        pool = self._pool or self._start()
+        if self._shared:
+            self._pool = pool
         try:
             futures = {pool.submit(fn, *item): item for item in items}
             for fut in as_completed(futures):
                 yield futures[fut], fut.result()
         except BaseException:  # SIGTERM, Ctrl-C, a failed task, the caller stopping: no worker outlives the run
+            self._pool = None
             stop(pool)
             raise
-        pool.shutdown(wait=True)
+        if not self._shared:
+            pool.shutdown(wait=True)
 
 
 #: seconds a terminated worker gets to exit before it is killed (a signal waits

@@ -26,7 +26,7 @@ from ..records.device import as_device
 from . import stats
 from .checks import fit_warnings
 from ..report.page import build_report
-from .executors import Processes
+from .executors import Processes, Serial
 
 #: schema of table_A7.csv, robustness.csv, pareto.csv and summary.json
 SCHEMA_VERSION = 1
@@ -101,9 +101,12 @@ def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) ->
                                 [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
 
 
-def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None, intervals=None) -> dict:
+def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None, intervals=None,
+                  executor=None) -> dict:
     """Write every output into ``out`` (all or nothing); returns the summary.
-    ``intervals``: {(device, spec): Intervals} (campaign.runner.run_intervals).
+    ``intervals``: {(device, spec): Intervals} (campaign.runner.run_intervals);
+    ``executor``: the one that draws the figures (default: a process pool of
+    ``cs.jobs``; the campaign's own, when its pool is still open).
 
     ``extra(stage, summary)``, when given, writes further files into the same
     staging directory (e.g. the production statistics of ``fvd-bridge campaign``).
@@ -122,7 +125,7 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True, ex
         write_json(os.path.join(stage, "summary.json"), _summary_json(records, results, summary, cs))
         if figures:
             with timing.stage("  figures"):
-                _figures(stage, records, summary, cs)
+                _figures(stage, records, summary, cs, executor)
         if extra is not None:
             extra(stage, summary)
         with timing.stage("  report.html"):
@@ -170,7 +173,7 @@ def _summary_json(records, results, summary, cs) -> dict:
     }
 
 
-def _figures(stage, records, summary, cs):
+def _figures(stage, records, summary, cs, executor=None):
     from ..plots import campaign as plots  # lazily: matplotlib (about 1 s), not needed with --no-figures
 
     fig_dir = os.path.join(stage, "figures")
@@ -195,7 +198,7 @@ def _figures(stage, records, summary, cs):
     figures.append((plots.pareto, specs, [M[s]["of_overall"] for s in specs], [M[s]["beta"] for s in specs],
                     [M[s]["non_dominated"] for s in specs], os.path.join(fig_dir, "pareto.png")))
     # a figure takes 0.1-0.3 s: dozens of them go to the campaign's processes
-    for _ in Processes(cs.jobs if len(figures) >= PARALLEL_FIGURES else 1).run(_draw, figures):
+    for _ in ((executor or Processes(cs.jobs)) if len(figures) >= PARALLEL_FIGURES else Serial()).run(_draw, figures):
         pass
 
 

@@ -25,6 +25,7 @@ refused with one line naming the file and the key.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import glob
 import hashlib
 import os
@@ -203,27 +204,30 @@ def run(args) -> int:
     executor, kind = make_executor(p, args)
     store.open(p["settings"], records)
     _remove_stale_staging(p["out"])
+    own_pool = executor if kind == "local" else None  # one local pool for the fits, intervals and figures
     try:
-        where = (f"dask scheduler {executor.scheduler}" if kind == "dask" and executor.scheduler else
-                 f"dask LocalCluster, {executor.workers} workers" if kind == "dask" else
-                 f"local, {executor.jobs} process(es)")
-        print(f"campaign: {len(records)} device(s) x {len(cs.specs)} model(s) x {cs.runs} run(s), optimizer "
-              f"{cs.optimizer}, bounds {cs.bounds}; executor {where}", file=sys.stderr)
-        resumable = Resumable(executor, store, progress=not args.quiet)
-        results = run_campaign(records, cs, progress=False, executor=resumable)
-        intervals = run_intervals(records, results, cs, executor, progress=not args.quiet)
-        figures = not p["args"].no_figures
-        made = {}
+        with own_pool or contextlib.nullcontext():
+            where = (f"dask scheduler {executor.scheduler}" if kind == "dask" and executor.scheduler else
+                     f"dask LocalCluster, {executor.workers} workers" if kind == "dask" else
+                     f"local, {executor.jobs} process(es)")
+            print(f"campaign: {len(records)} device(s) x {len(cs.specs)} model(s) x {cs.runs} run(s), optimizer "
+                  f"{cs.optimizer}, bounds {cs.bounds}; executor {where}", file=sys.stderr)
+            resumable = Resumable(executor, store, progress=not args.quiet)
+            results = run_campaign(records, cs, progress=False, executor=resumable)
+            intervals = run_intervals(records, results, cs, executor, progress=not args.quiet)
+            figures = not p["args"].no_figures
+            made = {}
 
-        def extra(stage, summary):
-            made["prod"] = production.analyse(summary, cs, p["k"])
-            nominal = None
-            if p["rig"] is not None:
-                nominal = rig_nominal(p["rig"])
-            made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
-            production.write(stage, made["prod"], made["accept"], figures)
+            def extra(stage, summary):
+                made["prod"] = production.analyse(summary, cs, p["k"])
+                nominal = None
+                if p["rig"] is not None:
+                    nominal = rig_nominal(p["rig"])
+                made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
+                production.write(stage, made["prod"], made["accept"], figures)
 
-        summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra, intervals=intervals)
+            summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra, intervals=intervals,
+                                    executor=own_pool)
     finally:
         store.close()
     print(format_report(summary) if len(records) <= 6 else format_series(summary))

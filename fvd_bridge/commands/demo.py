@@ -15,6 +15,7 @@ import sys
 import time
 
 from .. import timing
+from ..campaign.executors import Processes
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign
@@ -60,11 +61,12 @@ def run(args) -> int:
     print(f"demo: {len(records)} virtual devices, paper protocol (10 cycles, 40 mm, 0.5 m/s), records in "
           f"{rec_dir}/; {len(cs.specs)} laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
           file=sys.stderr)
-    with timing.stage("fits"):
-        results = run_campaign(records, cs)
-    book_fit_times(results)
-    with timing.stage("outputs, figures"):
-        summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures)
+    with Processes(cs.jobs) as executor:  # one pool for the fits and the figures
+        with timing.stage("fits"):
+            results = run_campaign(records, cs, executor=executor)
+        book_fit_times(results)
+        with timing.stage("outputs, figures"):
+            summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures, executor=executor)
     print(format_report(summary))
     print(f"\ndemo ran with {mode} in {time.perf_counter() - start:.0f} s; outputs in {args.out}/ "
           f"(true device parameters in {rec_dir}/truth.yaml)")
