@@ -2,9 +2,11 @@
 calibration file as a contract, the campaign executor, the CLI's parser, the
 Python API of the README."""
 
+import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -133,6 +135,30 @@ def test_executors_give_the_same_campaign(tmp_path):
         for key, fits in runs[0].items():
             assert [f.of for f in fits] == [f.of for f in other[key]]
             assert all(np.array_equal(a.params, b.params) for a, b in zip(fits, other[key]))
+
+
+def _worker_pid(_):
+    time.sleep(0.2)  # long enough that both workers take tasks
+    return os.getpid()
+
+
+def test_one_pool_serves_every_run_inside_with():
+    """Inside ``with Processes(2)`` two runs are served by the same two
+    worker processes (started once); outside, each run starts its own; a
+    task that fails ends the shared pool and the next run starts another."""
+    from fvd_bridge.campaign.executors import Processes
+
+    def pids(ex):
+        return {pid for _, pid in ex.run(_worker_pid, [(k,) for k in range(6)])}
+
+    with Processes(2) as ex:
+        first, second = pids(ex), pids(ex)
+        assert first & second and len(first | second) <= 2 and os.getpid() not in first
+        with pytest.raises(ZeroDivisionError):
+            list(ex.run(divmod, [(1, 0), (2, 1)]))
+        assert pids(ex).isdisjoint(first)
+    ex = Processes(2)
+    assert pids(ex).isdisjoint(pids(ex))
 
 
 # ------------------------------------------------------------------- the CLI
