@@ -21,6 +21,10 @@ start: it calls the same scipy solver through its Parameters.  Prints OF
 (eq. 18) beside time, and the ratios to the scipy peer.
 
     python benchmarks/bench_fit_speed.py [--repeats 3]
+
+``--record FILE`` times the same fits on a lab file instead (read as
+``fvd-bridge`` reads it), e.g. the shared friction damper's 0.5 Hz test
+(18k samples), where a solver's work per sample shows.
 """
 
 from __future__ import annotations
@@ -98,9 +102,11 @@ def best_of(repeats, run):
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--record", help="a lab file to fit instead of the simulated record")
     args = ap.parse_args()
-    rec = lab_record()
-    print(f"record: {rec.name}, {rec.n} samples (law 2 + 150 kN/mm oil column, lab-like); best of {args.repeats}\n")
+    rec = read_record(args.record) if args.record else lab_record()
+    what = "a lab file" if args.record else "law 2 + 150 kN/mm oil column, lab-like"
+    print(f"record: {rec.name}, {rec.n} samples ({what}); best of {args.repeats}\n")
     print(f"{'law':>4} {'fit':>32} {'wall [ms]':>10} {'OF':>9} {'x peer time':>12}")
     for law in ("2", "9"):
         model = parse_model(law)
