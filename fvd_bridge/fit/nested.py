@@ -53,9 +53,7 @@ def data_start(model, record, per_test=()) -> np.ndarray | None:
         return None
     device = as_device(record)
     d, v, F = (np.concatenate([getattr(t, k) for t in device.tests]) for k in "dvF")
-    sets = model.law.start(d, v, F)
-    sets = sets if isinstance(sets, list) else [sets]
-    return np.array([nested_start(model, device, model.law.names, p, per_test) for p in sets])
+    return np.array([nested_start(model, device, model.law.names, p, per_test) for p in model.law.start(d, v, F)])
 
 
 def wider_bounds(model, fit, fixed=()) -> dict:

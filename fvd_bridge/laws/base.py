@@ -97,9 +97,9 @@ class Law:
     realistic parameter set (the golden files, benchmarks); ``opensees``:
     its OpenSees form (None: none); ``fmu``: the FMU's C code carries it;
     ``paper``: one of the paper's nine laws (its protocol, ``demo``);
-    ``start(d, v, F) -> parameters`` (or a list of candidate sets): its
-    data-driven start (``starts.py``; None: the local search starts from a
-    sample alone);
+    ``start(d, v, F) -> [parameters, ...]``: its data-driven starts, one
+    or more candidate sets (``starts.py``; None: the local search starts
+    from a sample alone);
     ``global_search``: its objective has basins that a local solve from a
     sample does not always leave, so the default optimizer checks its local
     optimum globally (``LocalSettings.always_check``)."""

@@ -14,8 +14,8 @@ a sinusoidal loop: d [mm], v [mm/s], F [kN] of all tests together.
   saturated), and the intercept of |F| against |v| at speed; the
   saturation travel a tenth of the stroke.
 
-A law returns its parameters, or a list of candidate sets (the hysteretic
-laws: one per reading of Ff); the local search solves from each.
+A law returns a list of candidate parameter sets (one, or for the
+hysteretic laws one per reading of Ff); the local search solves from each.
 """
 
 from __future__ import annotations
@@ -52,6 +52,13 @@ def spring(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> float:
     return max(float(np.polyfit(d[slow], F[slow], 1)[0]), 0.0)
 
 
+def speed_line(v: np.ndarray, F: np.ndarray) -> tuple[float, float]:
+    """(a [kN], b [kN/(mm/s)]) of the line |F| = a + b |v| over the fastest half of the samples."""
+    fast = _fast(v)
+    b, a = np.polyfit(np.abs(v[fast]), np.abs(F[fast]), 1)
+    return float(a), float(b)
+
+
 def hysteretic(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> list[tuple[float, float, float]]:
     """Two readings of (Ff [kN], y [mm], C [kN/(mm/s)]): the friction force,
     its saturation travel and the linear viscous term.  At the reversals:
@@ -65,31 +72,31 @@ def hysteretic(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> list[tuple[float,
     Ff = float(np.median(np.abs(F[_slow(v)])))
     rest = F[fast] - Ff * np.sign(v[fast])
     C = max(float(np.sum(rest * v[fast]) / max(np.sum(v[fast] ** 2), 1e-30)), 0.0)
-    slope, icept = np.polyfit(np.abs(v[fast]), np.abs(F[fast]), 1) if fast.sum() >= 2 else (C, Ff)
-    return [(Ff, y, C), (max(float(icept), 1e-9), y, max(float(slope), 0.0))]
+    icept, slope = speed_line(v, F) if fast.sum() >= 2 else (Ff, C)
+    return [(Ff, y, C), (max(icept, 1e-9), y, max(slope, 0.0))]
 
 
 def law1(d, v, F):
     """C = sum(F v) / sum(v^2) (least squares of eq. 1)."""
-    return (max(float(np.sum(F * v) / max(np.sum(v * v), 1e-30)), 0.0),)
+    return [(max(float(np.sum(F * v) / max(np.sum(v * v), 1e-30)), 0.0),)]
 
 
 def law2(d, v, F):
-    return power_term(v, F)
+    return [power_term(v, F)]
 
 
 def law3(d, v, F):
     K1 = spring(d, v, F)
-    return (*power_term(v, F - K1 * d), K1)
+    return [(*power_term(v, F - K1 * d), K1)]
 
 
 def law4(d, v, F):
-    return (*law3(d, v, F), 0.0)
+    return [(*p, 0.0) for p in law3(d, v, F)]
 
 
 def law5(d, v, F):
     """The spring as law 3's with beta = 1 (one amplitude does not fix beta)."""
-    return (*law3(d, v, F), 1.0)
+    return [(*p, 1.0) for p in law3(d, v, F)]
 
 
 def law6(d, v, F):
@@ -117,10 +124,9 @@ def law10(d, v, F):
     """Beyond the relief force the force is a line in |v|: |F| = a + b |v|
     with b = p C (a regression over the fastest half), which meets F = C v
     at the knee v_k: Fr = a + b v_k, C = Fr / v_k, p = b / C."""
-    fast = _fast(v)
-    b, a = np.polyfit(np.abs(v[fast]), np.abs(F[fast]), 1)
+    a, b = speed_line(v, F)
     v_k = KNEE_SHARE * float(np.max(np.abs(v)))
     Fr = max(float(a + b * v_k), 1e-9)
     C = Fr / v_k
     amplitude = max(float(np.ptp(d)) / 2.0, 1e-9)
-    return RIGID_SHARE * float(np.max(np.abs(F))) / amplitude, C, Fr, float(np.clip(b / C, 1e-3, 1.0))
+    return [(RIGID_SHARE * float(np.max(np.abs(F))) / amplitude, C, Fr, float(np.clip(b / C, 1e-3, 1.0)))]
