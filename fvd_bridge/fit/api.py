@@ -120,15 +120,16 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     above it.  ``local``: from ``start`` only (a widened bound's round: the
     optimum moves on from where it stopped): the local search's least
     squares, or for the other optimizers Nelder-Mead."""
-    if optimizer.startswith("local") and model.global_search:  # the law or an effect asks for a global check
+    local_search = optimizer.startswith("local")
+    if local_search and model.global_search:  # the law or an effect asks for a global check
         settings = replace(settings, always_check=True)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
-    if start is None and optimizer.startswith("local"):  # the local search starts from the data's candidates
+    if start is None and local_search:  # the local search starts from the data's candidates
         start = data_start(model, device, layout.per_test)
     p0 = None if start is None else np.clip(np.atleast_2d(np.asarray(start, dtype=float)), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)  # (k, n): one row, or the data's k candidates
-    if local and x0 is not None and optimizer.startswith("local"):
+    if local and x0 is not None and local_search:
         x, of, history, evals = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0)
     elif local and x0 is not None:
         count = [0]
@@ -137,7 +138,7 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     elif optimizer == "de":
         x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation,
                                        None if x0 is None else x0[0])
-    elif optimizer.startswith("local"):
+    elif local_search:
         x, of, history, evals = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0)
     else:
         x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)

@@ -41,7 +41,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from .de import DESettings, polish, run_de
-from .trf import least_squares_soft_l1
+from .trf import least_squares_soft_l1, strictly_inside
 
 
 #: the global check after a local search: DE with population 8 per parameter,
@@ -84,16 +84,20 @@ FD_STEP = 1e-6
 
 
 def _starts(X: np.ndarray, of: np.ndarray, k: int, given: int = 0) -> list[int]:
-    """Indices of the start points: the ``given`` first rows of X (the
-    caller's, best first), then the best others, each finite and DISTINCT
-    from the ones before: k in all, and at least one of the others."""
+    """Indices of the start points, each finite and DISTINCT from the ones
+    before: the ``given`` first rows of X (the caller's), best first, then
+    the best of the others, k in all and at least one of them."""
     chosen: list[int] = []
-    order = [int(i) for i in np.argsort(of[:given])] + [given + int(i) for i in np.argsort(of[given:])]
-    for i in order:
-        if len(chosen) >= k and (given == 0 or chosen[-1] >= given):
-            break
-        if np.isfinite(of[i]) and all(np.linalg.norm(X[i] - X[j]) > DISTINCT for j in chosen):
-            chosen.append(i)
+
+    def take(rows, upto):
+        for i in rows[np.argsort(of[rows])]:
+            if len(chosen) >= upto:
+                break
+            if np.isfinite(of[i]) and all(np.linalg.norm(X[i] - X[j]) > DISTINCT for j in chosen):
+                chosen.append(int(i))
+
+    take(np.arange(given), given)
+    take(np.arange(given, len(X)), max(k, len(chosen) + 1))
     return chosen
 
 
@@ -167,8 +171,9 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
             raise StopIteration
 
     for i in _starts(X, of, s.starts, len(x0)):
-        scale = max(float(np.median(np.abs(fun_jac(X[i])[0]))), 1e-30)
-        x = solve(X[i], SCALE_SHARES[:1], scale, stop_in_known_basin)
+        x = strictly_inside(X[i], lower, upper)  # where the solver starts: its residuals serve both
+        scale = max(float(np.median(np.abs(fun_jac(x)[0]))), 1e-30)
+        x = solve(x, SCALE_SHARES[:1], scale, stop_in_known_basin)
         if in_known_basin(x):
             continue  # the same optimum as an earlier start's
         basins.append(x)

@@ -26,20 +26,25 @@ EPS = np.finfo(float).eps
 GRAM_PIVOT = 1e-4
 
 
+def strictly_inside(x, lb, ub) -> np.ndarray:
+    """x moved off any bound it lies on (scipy's ``make_strictly_feasible``):
+    where the solver starts from x."""
+    return make_strictly_feasible(np.asarray(x, dtype=float), lb, ub)
+
+
 def soft_l1_cost(r: np.ndarray, f_scale: float) -> float:
     """0.5 sum rho(r), rho(r) = 2 f_scale^2 (sqrt(1 + (r/f_scale)^2) - 1): scipy's soft-L1 cost."""
     return float(f_scale ** 2 * (np.sqrt(1.0 + (r / f_scale) ** 2).sum() - r.size))
 
 
 def normal_form(r: np.ndarray, J: np.ndarray, f_scale: float):
-    """(cost, R, Q^T f_s) of residuals r (m,) and Jacobian J (m, n) under the
+    """(R, Q^T f_s) of residuals r (m,) and Jacobian J (m, n) under the
     soft-L1 loss: J_s and f_s are scipy's loss-scaled Jacobian and residuals
     (``scale_for_robust_loss_function``: J_s = sqrt(rho' + 2 rho'' r^2) J,
     which is t^-3/4 J with t = 1 + (r/f_scale)^2, and f_s = rho' r /
     sqrt(...)), J_s = Q R."""
     t = 1.0 + (r / f_scale) ** 2
     st = np.sqrt(t)
-    cost = float(f_scale ** 2 * (st.sum() - r.size))
     w = np.sqrt(np.minimum(t * st, 1.0 / EPS))  # 1 / sqrt(rho' + 2 rho'' r^2), at most EPS^-1/2 (scipy's clamp)
     Js = J / w[:, None]
     fs = r * w / st
@@ -51,11 +56,11 @@ def normal_form(r: np.ndarray, J: np.ndarray, f_scale: float):
         U = np.triu(U)
         if np.min(np.abs(np.diag(U))) > GRAM_PIVOT:
             R = U * norms[None, :]
-            return cost, R, solve_triangular(R, Js.T @ fs, trans="T", check_finite=False)
+            return R, solve_triangular(R, Js.T @ fs, trans="T", check_finite=False)
     except np.linalg.LinAlgError:
         pass
     Raug = np.linalg.qr(np.column_stack([Js, fs]), mode="r")
-    return cost, Raug[:-1, :-1], Raug[:-1, -1]
+    return Raug[:-1, :-1], Raug[:-1, -1]
 
 
 def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, max_nfev: int, xtol: float = 1e-8,
@@ -66,11 +71,12 @@ def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, max_nfev: int, xt
     Returns (x, status, nfev) with scipy's status codes (0: max_nfev, 1-4:
     gtol, ftol, xtol, both; -2: stopped by the callback)."""
     lb, ub = np.asarray(lb, dtype=float), np.asarray(ub, dtype=float)
-    x = make_strictly_feasible(np.asarray(x0, dtype=float), lb, ub)
+    x = strictly_inside(x0, lb, ub)
     r, J = fun_jac(x)
     m, n = J.shape
     nfev = 1
-    cost, R, qf = normal_form(r, J, f_scale)
+    cost = soft_l1_cost(r, f_scale)
+    R, qf = normal_form(r, J, f_scale)
     g = R.T @ qf
     scale, scale_inv = compute_jac_scale(R)
     alpha, status = 0.0, None
@@ -118,7 +124,7 @@ def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, max_nfev: int, xt
             Delta = Delta_new
         if actual_reduction > 0:
             x = x_new
-            _, R, qf = normal_form(r_new, J_new, f_scale)
+            R, qf = normal_form(r_new, J_new, f_scale)
             cost = cost_new
             g = R.T @ qf
             scale, scale_inv = compute_jac_scale(R, scale_inv)
