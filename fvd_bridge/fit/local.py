@@ -81,6 +81,12 @@ SAME_BASIN = 0.02
 DOUBT = 0.01
 #: forward-difference step in the unit cube
 FD_STEP = 1e-6
+#: how close (a share of the OF) the search's end is to eq. 18's optimum: the
+#: last solve's soft-L1 loss differs from |r| by at most its scale c per
+#: residual, c = SCALE_SHARES[-1] of the start's median residual (from a
+#: start in the optimum's basin, a residual's size there), so the OF it ends
+#: on exceeds the L1 optimum's by about that share at most
+L1_TOLERANCE = SCALE_SHARES[-1]
 
 
 def _starts(X: np.ndarray, of: np.ndarray, k: int, given: int = 0) -> list[int]:
