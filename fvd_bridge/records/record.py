@@ -22,7 +22,10 @@ class Record:
     and a (for a derived velocity: the differentiator's noise gain times
     d_noise at the window used at each sample; for a measured one: its own
     estimated noise; zero for the rig's exact v and a). None: unknown (a
-    record built in code).
+    record built in code).  ``windows``: the Savitzky-Golay windows
+    [samples] that made v and a at each sample, (v_window, a_window), for
+    a velocity derived from d (None otherwise): the bootstrap differentiates
+    its replicates with them (``fit.intervals``).
     """
 
     t: np.ndarray
@@ -36,6 +39,7 @@ class Record:
     d_noise: float | None = None
     v_noise: np.ndarray | None = None
     a_noise: np.ndarray | None = None
+    windows: tuple | None = None
 
     #: units of the fields
     UNITS = {"t": "s", "d": "mm", "F": "kN", "v": "mm/s", "a": "mm/s^2"}
@@ -116,4 +120,5 @@ class Record:
         cut = {k: None if getattr(self, k) is None else getattr(self, k)[s] for k in ("v_noise", "a_noise")}
         return Record(self.t[s], self.d[s], self.F[s], self.v[s], self.a[s],
                       name or self.name, dict(self.provenance, slice=[start, stop]), list(self.warnings),
-                      d_noise=self.d_noise, **cut)
+                      d_noise=self.d_noise, **cut,
+                      windows=None if self.windows is None else tuple(w[s] for w in self.windows))
