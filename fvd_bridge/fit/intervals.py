@@ -10,7 +10,8 @@ record as the lab would have measured it had the calibrated model been the
 truth:
 
     d_s, v_s, a_s: d smoothed and its derivatives (Savitzky-Golay at the
-                   velocity's median window; 0 in the record's rests)
+                   velocity's median window; v_s and a_s 0 in the
+                   record's rests)
     d* = d_s + sigma_d e_d,   v*, a* derived from d* with the windows the
                    record's own derivation chose at each sample, its rests
                    found again (``velocity.derive_with_windows``: one batch)
@@ -94,7 +95,8 @@ class Intervals:
 def smoothed(record) -> Record:
     """The record's motion, smoothed: d [mm] by Savitzky-Golay at the window
     its velocity used (median), v [mm/s] and a [mm/s^2] the derivatives of
-    the same polynomials (a measured velocity: the record as it is)."""
+    the same polynomials, 0 in its rests (a measured velocity: the record
+    as it is)."""
     vel = (record.provenance or {}).get("velocity") or {}
     if vel.get("method") != "savgol":
         return record

@@ -257,19 +257,23 @@ def derive_with_windows(D: np.ndarray, dt: float, windows: tuple, polyorder: int
     sample, ``windows`` = (v_window, a_window), and its rests found in each
     row (v_noise [mm/s]: that derivation's per-sample noise).  The bootstrap's
     differentiator (``fit.intervals``): the same linear filters, one batch."""
-    D = np.atleast_2d(D)
-    out = []
-    for deriv, window, p in ((1, windows[0], polyorder), (2, windows[1], max(polyorder, 2))):
-        X = np.empty_like(D)
-        for w in np.unique(window):
-            at = window == w
-            X[:, at] = _savgol(D, int(w), min(p, int(w) - 1), deriv, dt)[:, at]
-        out.append(X)
-    V, A = out
-    for row in range(D.shape[0]):
+    V = with_windows(D, dt, windows[0], polyorder, 1)
+    A = with_windows(D, dt, windows[1], max(polyorder, 2), 2)
+    for row in range(V.shape[0]):
         still = rests(V[row], v_noise, dt, gamma)
         V[row, still], A[row, still] = 0.0, 0.0
     return V, A
+
+
+def with_windows(X: np.ndarray, dt: float, window: np.ndarray, polyorder: int, deriv: int) -> np.ndarray:
+    """The deriv-th Savitzky-Golay derivative of the rows of X, each sample
+    with its own window [samples] (``window``, (n,))."""
+    X = np.atleast_2d(X)
+    out = np.empty_like(X, dtype=float)
+    for w in np.unique(window):
+        at = window == w
+        out[:, at] = _savgol(X, int(w), min(polyorder, int(w) - 1), deriv, dt)[:, at]
+    return out
 
 
 def runs(mask: np.ndarray) -> list[tuple[int, int]]:
