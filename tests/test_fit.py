@@ -236,3 +236,23 @@ def test_the_friction_damper_law8_optimum(shared_dir):
     rec = read_record(str(shared_dir / "devices" / "arts_brfd_0.5Hz_25lb.csv"))
     for seed in (0, 1):
         assert fit_model(parse_model("8"), rec, seed=seed).of <= 0.2298 * 1.01
+
+
+def test_a_bound_that_widens_by_itself_is_not_to_be_widened_by_hand():
+    """A law parameter on an automatic bound that already widened (C at
+    6.9e-11: the term vanishes) gets no '--bound' hint; one on a bound the
+    user set (not widened, not a physical limit) does."""
+    from fvd_bridge.campaign.checks import fit_warnings
+    from fvd_bridge.fit.result import FitResult
+
+    model = parse_model("2")
+
+    def fit(widened):
+        return FitResult("2", ["C", "alpha"], ["kN/(mm/s)^alpha", "-"], np.array([6.9e-11, 0.3]), 0.1,
+                         np.array([[6.9e-11, 900.0], [0.05, 1.0]]), "auto", "local", 0, 100, widened=widened)
+
+    vanished = [w["message"] for w in fit_warnings(model, [fit({"C": (6.9e-11, 900.0)})])]
+    assert len(vanished) == 1 and "C ended on its lower bound 6.9e-11" in vanished[0]
+    assert "--bound" not in vanished[0] and "widen by themselves" in vanished[0]
+    users = [w["message"] for w in fit_warnings(model, [fit({})])]
+    assert "--bound 2:C=" in users[0]

@@ -62,6 +62,12 @@ def _bound_message(model, best, name: str, side: str) -> str:
                 f"the OF: the optimum lies at that end (a rigid spring, a vanishing term)")
     if best.bounds_mode == "paper":
         return f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (paper bounds; try --bounds auto)"
+    base, end = name.split("@")[0], lo if side == "lower" else hi
+    lim = {p.name: p.limit for p in model.law.parameters}.get(base)
+    if lim is not None and (base in best.widened or end in lim):  # widened by itself (fit.nested): no hint
+        return (f"{name} ended on its {side} bound {end:.4g}; the automatic bounds widen "
+                f"by themselves towards its physical range [{lim[0]:.4g}, {lim[1]:.4g}], and the optimum stays at "
+                f"this end: the record does not need this term as the law writes it")
     wider = (lo - (hi - lo), hi) if side == "lower" else (lo, hi + (hi - lo))
     if side == "lower" and lo > 0.0 and wider[0] < 0.0:
         wider = (lo / 10.0, hi)
