@@ -10,7 +10,7 @@ import numpy as np
 from .. import timing
 from ..errors import InputError
 from ..records import ReadOptions, parse_mapping, read_record
-from ..records.options import NO_COLUMN
+from ..records.options import FORCE_SIGNS, NO_COLUMN
 from ..records.readers import cut, read_as_stored
 
 
@@ -25,6 +25,10 @@ def add_record_options(p: argparse.ArgumentParser, units_flag: str = "--units") 
                    help="units of the columns, e.g. t=ms,d=m,F=N (default s, mm, kN, mm/s)")
     g.add_argument("--mat-var", help=".mat variable holding the columns, e.g. x_F")
     g.add_argument("--dt", type=float, help="time step [s] when the file has no time column")
+    g.add_argument("--force-sign", choices=FORCE_SIGNS,
+                   help="flip: negate F (the load cell reads the opposite sign: the loops generate energy); "
+                        "keep: the sign is right as read. Default: a record whose loops generate energy is "
+                        "refused (inspect lists it)")
     g.add_argument("--sg-window", type=int, help="Savitzky-Golay window [samples] for velocity, the same "
                                                  "over the whole record (odd; default: chosen per sample "
                                                  "from the record's noise, ICI rule)")
@@ -39,8 +43,8 @@ def read_options(args) -> ReadOptions:
     if derive:
         del columns["v"]
     return ReadOptions(columns=columns, units=parse_mapping(args.units, "--units"),
-                       mat_var=args.mat_var, dt=args.dt,
-                       sg_window=args.sg_window, sg_order=args.sg_order, derive_velocity=derive)
+                       mat_var=args.mat_var, dt=args.dt, sg_window=args.sg_window, sg_order=args.sg_order,
+                       derive_velocity=derive, force_sign=args.force_sign)
 
 
 def window(record, text: str):
@@ -60,17 +64,19 @@ def window(record, text: str):
 
 def read_records(paths, args):
     """The records at ``paths``, read with the verb's reading options (and
-    cut to ``--window``)."""
+    cut to ``--window``); a doubt (loops that generate energy, a force per
+    stroke beyond any damper test's) is refused: these verbs fit or judge
+    the record, and the result would be silently wrong."""
     opts = read_options(args)
     with timing.stage("read records, derive velocity"):
-        records = [read_record(p, opts) for p in paths]
+        records = [read_record(p, opts, refuse_doubts=True) for p in paths]
     return [window(r, args.window) for r in records] if getattr(args, "window", None) else records
 
 
 #: ``--check`` without a value: the calibration record
 CALIBRATION_RECORD = "<the calibration record>"
 #: the verbs' reading options (add_record_options)
-READING = ("columns", "units", "mat_var", "dt", "sg_window", "window")
+READING = ("columns", "units", "mat_var", "dt", "sg_window", "window", "force_sign")
 
 
 def read_as_calibrated(block: dict, args):

@@ -13,13 +13,9 @@ from ..errors import InputError
 from ..fit import objective
 from ..io.staging import safe_name, staged_dir, write_json
 from ..records import Record
+from ..records.validate import scale_mismatch
 from ..rig.protocols import read_history
 from .common import add_record_options, read_records, window
-
-#: a record whose peak force or stroke is this many times the calibration
-#: record's (or its inverse) is in other units (m for mm, N for kN: 1000x),
-#: not another test (a 1% velocity level moves 25x less than the paper's test)
-UNIT_MISMATCH = 100.0
 
 
 def add_parser(sub):
@@ -55,18 +51,13 @@ def _read(path: str, args):
 
 
 def _check_units(cal, record, path: str) -> None:
-    """Refuse a record whose scale is far off the calibration record's (other units)."""
+    """Refuse a record whose peak force or stroke is far off the calibration
+    record's (other units: records.validate.scale_mismatch)."""
     peaks = (cal.record or {}).get("peaks") or {}
-    mine = record.scales()
-    for key, what, unit in (("F", "peak force", "kN"), ("d", "stroke", "mm")):
-        ref, x = peaks.get(key), mine[key]
-        if not ref or not x or (key == "F" and not np.any(record.F)):
-            continue
-        ratio = x / ref
-        if ratio > UNIT_MISMATCH or ratio < 1.0 / UNIT_MISMATCH:
-            raise InputError(f"{path}: {what} {x:.4g} {unit} is {ratio:.3g}x that of {cal.path}'s calibration "
-                             f"record ({ref:.4g} {unit}): are the record's units right? give them with --units, "
-                             f"e.g. --units F=N,d=m")
+    reference = {key: (peaks[key], peaks[key]) for key in ("F", "d") if peaks.get(key)}
+    message = scale_mismatch(path, record.scales(), reference, f"{cal.path}'s calibration record")
+    if message:
+        raise InputError(message)
 
 
 def run(args) -> int:

@@ -18,10 +18,7 @@ from ..fit import DEFAULT_OPTIMIZER
 from ..io.staging import safe_name, staged_dir
 from ..records.device import Device
 from .calibrate import unique_names
-from .common import add_record_options, read_records
-
-#: the reading options a command line repeats to read the record the same way
-READ_OPTIONS = ("columns", "units", "mat_var", "dt", "sg_window", "window")
+from .common import READING, add_record_options, read_records
 
 
 def add_parser(sub):
@@ -142,7 +139,7 @@ def _next_lines(args, diag, paths: dict) -> list:
         return []
     target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
     reading = [f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"
-               for name in READ_OPTIONS if getattr(args, name, None) is not None]
+               for name in READING if getattr(args, name, None) is not None]
     plugins = [f"--plugin {shlex.quote(p)}" for p in args.plugin]
     device = [f"--device {shlex.quote(args.device)}"] if args.device else []
     again = ["fvd-bridge diagnose", *map(shlex.quote, args.record), *device, *reading, *plugins,

@@ -1,12 +1,14 @@
-"""How to read a record: column mapping, units, .mat variable, time step [s].
+"""How to read a record: column mapping, units, .mat variable, time step [s], force sign.
 
 The same keys come from CLI options (``--columns``, ``--units``, ``--mat-var``,
-``--dt``) or from a YAML sidecar ``NAME.yaml`` next to the record file::
+``--dt``, ``--force-sign``) or from a YAML sidecar ``NAME.yaml`` next to the
+record file::
 
     columns: {t: time, d: disp, F: load}   # CSV header names, or .mat indices
     units:   {t: ms, d: m, F: N}           # default s, mm, kN, mm/s
     mat_var: x_F                            # .mat only
     dt: 0.01                                # [s], when there is no time column
+    force_sign: flip                        # the load cell reads the opposite sign
 
 Options given explicitly win over the sidecar, key by key.
 """
@@ -22,7 +24,10 @@ import yaml
 from ..errors import InputError
 from ..units import CANONICAL, factor
 
-SIDECAR_KEYS = ("columns", "units", "mat_var", "dt")
+SIDECAR_KEYS = ("columns", "units", "mat_var", "dt", "force_sign")
+#: ``--force-sign``: flip (negate F: the load cell reads the opposite sign) or
+#: keep (the sign is right: loops that generate energy are not doubted)
+FORCE_SIGNS = ("flip", "keep")
 #: ``--columns v=none``: leave a measured velocity out and derive v from d
 NO_COLUMN = "none"
 
@@ -37,8 +42,10 @@ class ReadOptions:
     has none; ``sg_window`` [samples] and ``sg_order`` set the Savitzky-Golay
     velocity differentiator (window None: chosen per sample, records/velocity.py);
     ``derive_velocity``: ignore a measured velocity column and derive v from
-    d (``--columns v=none``).  ``sidecar`` is the YAML file the options were
-    completed from, if any.
+    d (``--columns v=none``); ``force_sign``: None (loops that generate
+    energy are doubted, validate.reversed_force_note), "flip" (F negated) or
+    "keep" (F as read, not doubted).  ``sidecar`` is the YAML file the
+    options were completed from, if any.
     """
 
     columns: dict = field(default_factory=dict)
@@ -48,18 +55,20 @@ class ReadOptions:
     sg_window: int | None = None
     sg_order: int = 3
     derive_velocity: bool = False
+    force_sign: str | None = None
     sidecar: str | None = None
 
     def as_dict(self) -> dict:
         """The options a user gave (the sidecar completes them again on reading)."""
         out = {"columns": dict(self.columns), "units": dict(self.units), "mat_var": self.mat_var, "dt": self.dt,
-               "sg_window": self.sg_window, "sg_order": self.sg_order, "derive_velocity": self.derive_velocity}
+               "sg_window": self.sg_window, "sg_order": self.sg_order, "derive_velocity": self.derive_velocity,
+               "force_sign": self.force_sign}
         return {k: v for k, v in out.items() if v not in (None, {}, False) and not (k == "sg_order" and v == 3)}
 
     @classmethod
     def from_dict(cls, data: dict | None) -> "ReadOptions":
         """Options stored by ``as_dict`` (a calibration file's record.reading)."""
-        keys = ("columns", "units", "mat_var", "dt", "sg_window", "sg_order", "derive_velocity")
+        keys = ("columns", "units", "mat_var", "dt", "sg_window", "sg_order", "derive_velocity", "force_sign")
         return cls(**{k: v for k, v in (data or {}).items() if k in keys})
 
 
@@ -100,6 +109,7 @@ def with_sidecar(path: str, opts: ReadOptions) -> ReadOptions:
         units={**data.get("units", {}), **opts.units},
         mat_var=opts.mat_var if opts.mat_var is not None else data.get("mat_var"),
         dt=opts.dt if opts.dt is not None else data.get("dt"),
+        force_sign=opts.force_sign if opts.force_sign is not None else data.get("force_sign"),
         sidecar=side)
 
 
@@ -149,6 +159,10 @@ def _load_sidecar(side: str) -> dict:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
                 fail(key, f"expected a positive time step in s, got {value!r}")
             out[key] = float(value)
+        elif key == "force_sign":
+            if value not in FORCE_SIGNS:
+                fail(key, f"expected {' or '.join(FORCE_SIGNS)}, got {value!r}")
+            out[key] = value
     for k, unit in out.get("units", {}).items():
         try:
             factor(k, unit)

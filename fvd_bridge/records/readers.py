@@ -1,12 +1,16 @@
 """read_record: a CSV or .mat file -> converted, validated, differentiated Record.
 
 Steps: sidecar -> read columns (csvfile / matfile) -> finite -> units to
-kN, mm, s -> time checks -> constant/absurd checks -> uniform grid -> cycles
--> velocity (measured, or Savitzky-Golay from d with a window chosen per
-sample, velocity.py) and noise estimates -> provenance. Any fault is an
-InputError naming the file, row and column; notes (resampling, suspicious
-units, no unit information at all) are kept in ``Record.warnings`` and
-issued as RecordWarning.
+kN, mm, s (and the force's sign) -> time checks -> constant/absurd checks ->
+uniform grid -> cycles -> velocity (measured, or Savitzky-Golay from d with a
+window chosen per sample, velocity.py) and noise estimates -> doubts ->
+provenance. Any fault is an InputError naming the file, row and column; notes
+(resampling, suspicious units, no unit information at all) are kept in
+``Record.warnings`` and issued as RecordWarning. Doubts are notes that make
+a fit of the record wrong until the user settles them (loops that generate
+energy: the force's sign; a force per stroke beyond any damper test's: the
+units); they come first in ``Record.warnings``, and a verb that fits or
+judges the record refuses them (``read_record(..., refuse_doubts=True)``).
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from . import validate
 from .cycles import displacement_noise
 from .csvfile import read_csv
 from .matfile import read_mat
-from .options import ReadOptions, parse_mapping, with_sidecar
+from .options import FORCE_SIGNS, ReadOptions, parse_mapping, with_sidecar
 from .raw import RawColumns
 from .record import Record
 from .velocity import acceleration_from_velocity, check_settings, derive
@@ -35,7 +39,8 @@ class RecordWarning(UserWarning):
     """A record was read but something about it deserves a look."""
 
 
-def read_record(path: str, opts: ReadOptions | None = None, name: str | None = None) -> Record:
+def read_record(path: str, opts: ReadOptions | None = None, name: str | None = None,
+                refuse_doubts: bool = False) -> Record:
     """Read, convert to kN/mm/s, validate and differentiate one record file.
 
     Parameters
@@ -48,6 +53,10 @@ def read_record(path: str, opts: ReadOptions | None = None, name: str | None = N
         differentiator's settings (default: the sidecar's, else kN, mm, s).
     name : str, optional
         The record's name; default the file's stem.
+    refuse_doubts : bool
+        Raise the first doubt (the force's sign, the units) as an InputError
+        instead of issuing it as a RecordWarning (calibrate, diagnose,
+        compare: a fit of such a record would be silently wrong).
 
     Returns
     -------
@@ -64,6 +73,8 @@ def read_record(path: str, opts: ReadOptions | None = None, name: str | None = N
     opts = _checked(path, with_sidecar(path, given))
     raw = read_mat(path, opts) if path.lower().endswith(".mat") else read_csv(path, opts)
     rec = _assemble(path, raw, opts, name)
+    if refuse_doubts and rec.provenance["doubts"]:
+        raise InputError(rec.provenance["doubts"][0])
     rec.provenance["reading"] = given.as_dict()  # read again as it was read (export --check, compare)
     for note in rec.warnings:
         warnings.warn(note, RecordWarning, stacklevel=2)
@@ -128,6 +139,8 @@ def _checked(path: str, opts: ReadOptions) -> ReadOptions:
     if opts.dt is not None and not (np.isfinite(opts.dt) and opts.dt > 0):
         raise InputError(f"--dt {opts.dt:g}: must be a positive time step in s")
     check_settings(opts.sg_window, opts.sg_order)
+    if opts.force_sign not in (None, *FORCE_SIGNS):
+        raise InputError(f"--force-sign {opts.force_sign}: expected {' or '.join(FORCE_SIGNS)}")
     return opts
 
 
@@ -144,6 +157,8 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
         units["t"] = "s"
     factors = {k: factor(k, units[k], f"{path}: ") for k in raw.data}
     conv = {k: x * factors[k] for k, x in raw.data.items()}
+    if opts.force_sign == "flip":  # the load cell reads the opposite sign
+        conv["F"] = -conv["F"]
     t = conv.pop("t")
     off_grid = validate.check_time(path, raw.names["t"], t, raw.rows)
     for key in ("d", "F", "v"):
@@ -179,5 +194,14 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
         prov["mat_var"] = opts.mat_var
     if opts.sidecar:
         prov["sidecar"] = os.path.abspath(opts.sidecar)
-    return Record(t, conv["d"], conv["F"], v, a, name=name or os.path.splitext(os.path.basename(path))[0],
-                  provenance=prov, warnings=notes, d_noise=der.d_noise, v_noise=v_noise, a_noise=a_noise)
+    if opts.force_sign:
+        prov["force_sign"] = opts.force_sign
+    rec = Record(t, conv["d"], conv["F"], v, a, name=name or os.path.splitext(os.path.basename(path))[0],
+                 provenance=prov, warnings=notes, d_noise=der.d_noise, v_noise=v_noise, a_noise=a_noise,
+                 windows=None if "v" in conv else (der.v_window, der.a_window))
+    doubts = [note for note in (
+        validate.scale_mismatch(path, rec.scales(), validate.DAMPER_TESTS, "the stiffest damper tests"),
+        None if opts.force_sign else validate.reversed_force_note(path, raw.names["F"], t, rec.F, rec.v)) if note]
+    rec.provenance["doubts"] = doubts
+    rec.warnings[:0] = doubts
+    return rec

@@ -157,3 +157,70 @@ def rest_offset_note(where: str, t: np.ndarray, d: np.ndarray, F: np.ndarray, na
     return [f"{where}: column '{names['F']}': the record starts with {t[end] - t[0]:.3g} s at rest with a force of "
             f"{offset:.3g} kN ({abs(offset) / peak:.0%} of the peak force): a load-cell offset? leave the rest out "
             f"with --window {t[end]:.3g},{t[-1]:.6g} (and check the zero of the force)"]
+
+
+#: the loops generate energy (the force's sign is reversed) when the work
+#: done on the device, sum (F - mean F) v dt, is negative by more than this
+#: share of sum |(F - mean F) v| dt. A damper's share is near +1 (the shared
+#: friction damper's and MR damper's tests 0.95 and 1.0), reversed near -1;
+#: a pure spring over at least one cycle stays within +-0.2 (a quarter cycle
+#: left over), and a viscoelastic loop with loss factor 0.17 is at 0.25.
+REVERSED_WORK = 0.25
+
+
+def reversed_force_note(where: str, name: str, t: np.ndarray, F: np.ndarray, v: np.ndarray) -> str | None:
+    """The note for loops that generate energy, None for loops that do not.
+
+    The work done on the device is W = int (F - mean F) v dt [kN mm] (the
+    mean force taken out: an offset does no work over closed cycles); W <
+    -REVERSED_WORK int |(F - mean F) v| dt means the load cell reads the
+    opposite sign. F [kN], v [mm/s], t [s] on a uniform grid.
+    """
+    power = (F - np.mean(F)) * v
+    scale = float(np.sum(np.abs(power)))
+    work = float(np.sum(power))
+    if scale == 0.0 or work >= -REVERSED_WORK * scale:
+        return None
+    dt = float(t[1] - t[0])
+    return (f"{where}: column '{name}': the force-displacement loops generate energy (dissipated energy "
+            f"{work * dt:.4g} kN mm, {work / scale:.0%} of the sum of |F dd|): the force's sign looks reversed; "
+            f"read it negated with --force-sign flip (sidecar: force_sign: flip), or say the sign is right "
+            f"with --force-sign keep")
+
+
+#: a record whose peak force, stroke or peak force per stroke is this many
+#: times its reference's (or its inverse) is in other units (m for mm, N for
+#: kN: 1000x; both: 10^6x in force per stroke), not another test (a 1%
+#: velocity level moves 25x less than the paper's test)
+UNIT_MISMATCH = 100.0
+#: the reference of a record on its own: damper tests reach about 50 kN/mm
+#: of peak force per stroke (a 5000 kN damper over +-100 mm; the shared MR
+#: damper 0.01, the friction damper 0.6, the paper's FVDs 7 kN/mm)
+DAMPER_TESTS = {"F/d": (0.0, 50.0)}
+_SCALE_WORDS = {"F": ("peak force", "kN"), "d": ("stroke", "mm"), "F/d": ("peak force per stroke", "kN/mm")}
+
+
+def scale_mismatch(where: str, scales: dict, reference: dict, against: str) -> str | None:
+    """The message when a record's scale is UNIT_MISMATCH times beyond its
+    reference's, else None.
+
+    ``scales``: the record's {"F": peak |F| [kN], "d": stroke [mm]}
+    (``Record.scales``); ``reference``: {key: (lo, hi)} for key F, d or F/d
+    (peak force per stroke [kN/mm]); the record is refused when its value is
+    above UNIT_MISMATCH * hi or below lo / UNIT_MISMATCH. ``against`` names
+    the reference ("a.yaml's calibration record"). A zero scale (a history
+    without force) is not compared.
+    """
+    values = {"F": scales["F"], "d": scales["d"], "F/d": scales["F"] / scales["d"] if scales["d"] else 0.0}
+    for key, (lo, hi) in reference.items():
+        x = values[key]
+        if not x or lo <= x <= hi:
+            continue
+        bound = hi if x > hi else lo
+        ratio = x / bound
+        if ratio > UNIT_MISMATCH or ratio < 1.0 / UNIT_MISMATCH:
+            what, unit = _SCALE_WORDS[key]
+            parts = f" ({scales['F']:.4g} kN over {scales['d']:.4g} mm)" if key == "F/d" else ""
+            return (f"{where}: {what} {x:.4g} {unit}{parts} is {ratio:.3g}x that of {against} ({bound:.4g} {unit}): "
+                    f"are the record's units right? give them with --units, e.g. --units F=N,d=m")
+    return None
