@@ -47,6 +47,7 @@ from . import __version__
 from .catalog import catalog as load_catalog
 from .errors import InputError
 from .fit.layout import SEP, Layout
+from .fit.objective import objective
 from .io.staging import atomic_file
 from .records.device import as_device, tested_range
 
@@ -253,6 +254,32 @@ class Calibration:
         f = [r["f"] for r in ranges if r.get("f")]
         out["f"] = [min(f), max(f)] if f else None
         return out
+
+    @property
+    def fitted_on(self) -> frozenset:
+        """The data its OF was computed on: (record file, else test name;
+        samples; weight) of each test.  Two calibrations' OFs rank only when
+        these are equal (``same_data``)."""
+        return frozenset((*data_key(t), round(float(t.get("weight", 1.0)), 9)) for t in self.tests)
+
+    def of_on(self, record) -> float:
+        """The OF (eq. 18) of the model's force on a record, as ``compare`` computes it.
+
+        Parameters
+        ----------
+        record : Record
+            A test record (kN, mm, s); one of its own tests (same file or
+            name, same samples) takes that test's parameters.
+
+        Returns
+        -------
+        float
+            The OF of the model's force against the record's.
+        """
+        key = ((record.provenance or {}).get("file") or record.name, record.n)
+        own = next((t["name"] for t in self.tests if data_key(t) == key), None)
+        F = self.force(record, test=self.test_named(own) if own else None)
+        return float(objective(record.F, F, record.t))
 
     def beyond_tested(self, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
         """What of a motion goes beyond the tested range: the model is there an extrapolation.
@@ -608,6 +635,27 @@ def record_provenance(record) -> dict:
             "samples": record.n, "dt": record.dt, "columns": prov.get("columns"), "window": prov.get("window"),
             "source_units": prov.get("units"), "reading": prov.get("reading"), "velocity": prov.get("velocity"),
             "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
+
+
+def data_key(test: dict) -> tuple:
+    """What a test of a calibration holds: (its record file, else its name; its samples)."""
+    block = test.get("record") or {}
+    return (block.get("file") or test.get("name"), block.get("samples"))
+
+
+def same_data(calibrations) -> bool:
+    """Whether every calibration's OF was computed on the same tests (files
+    or names, samples, weights): only then do their OFs rank."""
+    return len({c.fitted_on for c in calibrations}) <= 1
+
+
+def common_tests(calibrations) -> list[dict]:
+    """The tests (as the first calibration holds them) every calibration was fitted on."""
+    calibrations = list(calibrations)
+    if not calibrations:
+        return []
+    shared = set.intersection(*({data_key(t) for t in c.tests} for c in calibrations))
+    return [t for t in calibrations[0].tests if data_key(t) in shared]
 
 
 def _band(lo: float, hi: float) -> str:

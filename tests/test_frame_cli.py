@@ -147,6 +147,79 @@ def test_an_analysis_that_stops_early_is_left_out_of_the_verdict(series, tmp_pat
     assert "left out, the analysis did not reach its end: law 2 | dev (stopped at 37.4 s of the record's 53.7 s)" in text
 
 
+@pytest.fixture(scope="module")
+def one_and_two_tests(tmp_path_factory, series):
+    """Calibrations of one lab-like device (two tests, files with their
+    sidecars): law 1 on its slow test, law 2 on both tests, law 2 on the
+    slow test alone; the quake of ``series``."""
+    import fvd_bridge as fb
+    from fvd_bridge.rig import Device, paper
+
+    from lab import lab_record
+
+    root = tmp_path_factory.mktemp("tests")
+    device = Device(C=45.0, alpha=0.3, name="sn1")
+    slow = lab_record(device, paper(velocity=150.0, cycles=3), seed=0, tmp_path=root, name="sn1_slow")
+    fast = lab_record(device, paper(cycles=3), seed=1, tmp_path=root, name="sn1_fast")
+    cals = {"law1_slow": fb.calibrate(slow, "1", intervals=0),
+            "law2_both": fb.calibrate([slow, fast], "2", device="sn1", intervals=0),
+            "law2_slow": fb.calibrate(slow, "2", intervals=0)}
+    for name, cal in cals.items():
+        cal.save(str(root / f"{name}.yaml"))
+    return root, cals, slow, fast, series / "quake.txt"
+
+
+def test_frame_ranks_models_on_the_same_data_only(one_and_two_tests, tmp_path):
+    """Issue 31, point 6: a one-test calibration and a two-test one are not
+    ranked by their own OFs.  Their common test's file at hand: both are
+    ranked by their OF on it (the verdict says on what); gone: not ranked,
+    and the verdict says why in one line; --rank-on FILE ranks them on that
+    record.  Two calibrations on the same test rank by their own OFs, as before."""
+    root, cals, slow, fast, quake = one_and_two_tests
+    one, two = str(root / "law1_slow.yaml"), str(root / "law2_both.yaml")
+
+    def run(name, *args):
+        res = frame(*args, "--record", str(quake), "--duration", "1.5", "--out", str(tmp_path / name), "--quiet",
+                    "--no-figures")
+        assert res.returncode == 0, res.stderr[-2000:]
+        summary = json.load(open(tmp_path / name / "frame_summary.json"))
+        assert f"verdict: {summary['verdict']}" in res.stdout
+        return summary
+
+    common = run("common", one, two)
+    of_there = {"1": cals["law1_slow"].of_on(slow), "2": cals["law2_both"].of_on(slow)}
+    best = min(of_there, key=of_there.get)
+    assert common["verdict"].startswith(f"best-fitting model on the test sn1_slow, which every model was fitted on: "
+                                        f"law {best} (mean OF there {of_there[best]:.4g})")
+    assert {s: v["common_of"] for s, v in common["series"].items()} == pytest.approx(of_there, rel=1e-9)
+    # law 2 on both tests: its OF on the slow test is not its calibration OF (the mean over both)
+    assert of_there["2"] != pytest.approx(cals["law2_both"].of, rel=1e-3)
+    assert html.escape(common["verdict"]) in (tmp_path / "common" / "report.html").read_text()
+
+    (root / "sn1_slow.csv").rename(root / "away.csv")
+    try:
+        gone = run("gone", one, two)
+    finally:
+        (root / "away.csv").rename(root / "sn1_slow.csv")
+    assert gone["verdict"].startswith("fitted to different tests: not ranked (law 1 on sn1_slow; law 2 on sn1_fast, "
+                                      "sn1_slow; give a test record to rank them on, frame --rank-on FILE)")
+    assert "best-fitting" not in gone["verdict"] and "simplest" not in gone["verdict"]
+    assert all(v["common_of"] is None for v in gone["series"].values())
+
+    given = run("given", one, two, "--rank-on", str(root / "sn1_fast.csv"))
+    of_fast = {"1": cals["law1_slow"].of_on(fast), "2": cals["law2_both"].of_on(fast)}
+    best = min(of_fast, key=of_fast.get)
+    assert given["verdict"].startswith(f"best-fitting model on the record sn1_fast: law {best} "
+                                       f"(mean OF there {of_fast[best]:.4g})")
+    assert [c["ranked_on"]["of"] for c in given["cases"][1:]] == pytest.approx([of_fast["1"], of_fast["2"]])
+
+    same = run("same", one, str(root / "law2_slow.yaml"))
+    own = {"1": cals["law1_slow"].of, "2": cals["law2_slow"].of}
+    best = min(own, key=own.get)
+    assert same["verdict"].startswith(f"best-fitting model: law {best} (mean OF {own[best]:.4g})")
+    assert all(c["ranked_on"] is None for c in same["cases"])
+
+
 @pytest.mark.parametrize("building", ["3-story", "9-story"])
 def test_frame_prints_the_periods_beside_the_benchmark(building):
     """``frame --building B --periods --json``: the bare frame's first three

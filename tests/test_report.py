@@ -158,3 +158,29 @@ def test_the_exports_and_their_fidelity_are_in_the_report(report, tmp_path):
     res = subprocess.run([*CLI, "export", "opensees", str(elsewhere), "-o", str(tmp_path / "other.py")],
                          capture_output=True, text=True, env=cli_env(), timeout=300)
     assert res.returncode == 0 and (out / "exports.json").read_text() == before
+
+
+def test_the_acceptance_nominal_ranks_on_the_same_data(tmp_path):
+    """Issue 31, point 6: a device folder holding a one-test and a two-test
+    calibration (two calibrate runs into one folder) picks the acceptance's
+    nominal model by each model's OF on the test both were fitted on, not by
+    their own OFs; its file gone, it ranks nothing and says so."""
+    import fvd_bridge as fb
+    from fvd_bridge.report.page import build_report
+
+    slow = lab_record(Device(C=45.0, alpha=0.3, name="sn1"), paper(velocity=150.0, cycles=3), seed=0,
+                      tmp_path=tmp_path, name="sn1_slow")
+    fast = lab_record(Device(C=45.0, alpha=0.3, name="sn1"), paper(cycles=3), seed=1, tmp_path=tmp_path,
+                      name="sn1_fast")
+    one = fb.calibrate(slow, "1", intervals=0)
+    two = fb.calibrate([slow, fast], "2", device="sn1", intervals=0)
+    out = tmp_path / "out"
+    one.save(str(out / "params" / "sn1" / "law1.yaml"))
+    two.save(str(out / "params" / "sn1" / "law2.yaml"))
+    build_report(str(out))
+    best = min((one, two), key=lambda c: c.of_on(slow))
+    assert f"nominal force: law {best.spec} (the lowest OF on sn1_slow)" in (out / "report.html").read_text()
+    (tmp_path / "sn1_slow.csv").rename(tmp_path / "away.csv")
+    build_report(str(out))
+    assert ("nominal force: law 1 (fitted to different tests: not ranked, the first file&#x27;s)"
+            in (out / "report.html").read_text())

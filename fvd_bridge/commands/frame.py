@@ -11,6 +11,7 @@ from .. import timing
 from ..calibration import Calibration
 from ..catalog import catalog
 from ..errors import InputError
+from ..records import read_record
 from ..records.motions import read_motion
 from ..export.opensees_check import quiet_opensees
 
@@ -26,7 +27,9 @@ def add_parser(sub):
                     "params/*/*.yaml) in every story of a SAC LA benchmark steel frame (OpenSees, through the "
                     "OpenSees export), run a ground-motion record, and compare peak and residual drift, floor "
                     "acceleration, damper force, stroke and energy with the bare frame; over the devices of "
-                    "a series, the spread per model; ends with the simplest model as good as the best-fitting.")
+                    "a series, the spread per model; ends with the simplest model as good as the best-fitting "
+                    "(ranked on the same data only: models fitted to different tests are ranked on a common "
+                    "test record, --rank-on or one all were fitted on, or not at all).")
     p.add_argument("params", nargs="*", metavar="PARAMS", help="calibration files or calibrate output folders")
     p.add_argument("--periods", action="store_true",
                    help="print the bare frame's first three periods and frequencies beside the benchmark's "
@@ -47,6 +50,10 @@ def add_parser(sub):
                         "series; default 1); its force limit scales with it")
     p.add_argument("--building", default="3-story", choices=BUILDINGS, help="frame (default 3-story)")
     p.add_argument("--laws", help="only these models, e.g. 2,9 or 2+friction (default all given)")
+    p.add_argument("--rank-on", metavar="FILE",
+                   help="a damper test record (t,d,F; its unit sidecar, else kN, mm, s) to rank the models on: "
+                        "each model's OF on it (default: their own OFs when all were fitted to the same tests, "
+                        "else a test all were fitted on; without one they are not ranked)")
     p.add_argument("--stroke-limit", type=float, metavar="MM",
                    help="damper stroke limit [mm] (default: the calibration record's peak displacement)")
     p.add_argument("--force-limit", type=float, metavar="KN",
@@ -138,7 +145,7 @@ def load_inputs(args):
                   file=sys.stderr)
     if args.scale_pga:
         motion = motion.scaled_to_pga(args.scale_pga)
-    return cals, building_of(args), motion
+    return cals, building_of(args), motion, (read_record(args.rank_on) if args.rank_on else None)
 
 
 def run(args) -> int:
@@ -147,7 +154,7 @@ def run(args) -> int:
 
     if args.periods:
         return print_periods(args)
-    cals, building, motion = load_inputs(args)
+    cals, building, motion, rank_on = load_inputs(args)
     log = tempfile.NamedTemporaryFile(prefix="fvd_bridge_opensees_", suffix=".log", delete=False)
     log.close()
     quiet_opensees(log.name)
@@ -164,7 +171,7 @@ def run(args) -> int:
     try:
         with timing.stage("frame analyses"):
             cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
-                              per_story=args.dampers_per_story, scale=args.scale_force)
+                              per_story=args.dampers_per_story, scale=args.scale_force, rank_on=rank_on)
         settings = {"dampers_per_story": args.dampers_per_story, "scale_force": args.scale_force,
                     "energy_kept": motion.source.get("energy_kept", 1.0)}
         with timing.stage("outputs, figures"):

@@ -10,7 +10,10 @@ beyond its tests' peak force, or the given limits).
 Over the devices of a production series each quantity's spread (min, mean,
 max, coefficient of variation) per model; the verdict names the simplest
 model whose peak drift and damper force stay within VERDICT_TOLERANCE of the
-best-fitting model's (lowest mean OF on the calibration records).
+best-fitting model's: the lowest mean OF where the OFs are computed on the
+same data (every model fitted to the same tests, or each evaluated on a
+common record: one the caller gives, else a test every calibration was
+fitted on); models fitted to different tests without one are not ranked.
 """
 
 from __future__ import annotations
@@ -22,8 +25,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import timing
+from ..calibration import common_tests, data_key, same_data
 from ..errors import InputError
 from ..records.cycles import reversals
+from ..records.readers import read_as_stored
 from ..export.opensees import opensees_export
 from .analysis import FrameResult, run_frame
 from .model import DAMPER_TAGS_FROM
@@ -58,6 +63,8 @@ class Case:
     n_params: int = 0
     per_story: int = 1  # dampers side by side in each story (the link carries all of them)
     fmu: bool = False  # OpenSees has no material for it: the damper FMU runs it (co-simulation)
+    fitted_on: frozenset = frozenset()  # the tests its calibration OF is computed on (Calibration.fitted_on)
+    ranked_on: tuple | None = None  # (what, OF there): its OF on the common record the models rank on
 
     def values(self) -> dict:
         """The design quantities (QUANTITIES) of this case; NaN where they do not apply."""
@@ -126,8 +133,13 @@ def _exceeded(case: Case, cal=None) -> list:
 
 
 def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=None, dt_analysis=None,
-              progress=None, per_story: int = 1, scale: float = 1.0) -> list[Case]:
+              progress=None, per_story: int = 1, scale: float = 1.0, rank_on=None) -> list[Case]:
     """The bare frame, then one analysis per calibration (fvd_bridge.calibration.Calibration).
+
+    The models rank on the same data (``rank_common``): ``rank_on``, a test
+    Record (kN, mm, s), is the record every model's OF is computed on; None:
+    their own OFs where all were fitted to the same tests, else a test all
+    were fitted on.
 
     ``per_story`` dampers side by side in each story, each the calibrated
     device with its force times ``scale`` (a larger device of the same
@@ -141,7 +153,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
         device = cal.device or (cal.record or {}).get("name") or "device"
         case = Case(f"law {cal.spec} | {device}", cal.spec, device, float(cal.of),
                     limits=_limits(cal, stroke_limit, force_limit, scale), n_params=len(cal.model.names),
-                    per_story=per_story)
+                    per_story=per_story, fitted_on=cal.fitted_on)
         commands = None
         try:
             export = cal.solving(opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM))
@@ -153,6 +165,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
                 case.note = (f"co-simulated with its FMU, explicit scheme, step {COSIM_STEP:g} s at most "
                              f"(OpenSees: {exc})")
         runs.append((case, commands, cal))
+    rank_common([case for case, _, _ in runs[1:]], calibrations, rank_on)
     for case, commands, cal in runs:
         if case.spec is not None and commands is None and not case.fmu:
             if progress:
@@ -200,10 +213,47 @@ def _cosimulated(building, motion, cal, scale: float, dt_analysis=None) -> Frame
     return result
 
 
+def rank_common(cases, calibrations, record=None) -> None:
+    """Each damper case's OF on a common record (``Case.ranked_on``) when the
+    models' own OFs are not on the same data: on ``record`` (a test Record a
+    caller gives) always; else, where the calibrations were fitted to
+    different tests, on the tests every one of them was fitted on whose
+    records are at hand (kept in memory, or their files read again as they
+    were calibrated; the mean OF over them).  Nothing found: the cases keep
+    none and the verdict does not rank them."""
+    calibrations = list(calibrations)
+    if record is not None:
+        what, records = f"the record {record.name}", [record]
+    elif same_data(calibrations):
+        return
+    else:
+        records = [r for r in (_at_hand(t, calibrations) for t in common_tests(calibrations)) if r is not None]
+        if not records:
+            return
+        names = ", ".join(r.name for r in records)
+        what = f"the test{'s' if len(records) > 1 else ''} {names}, which every model was fitted on"
+    for case, cal in zip(cases, calibrations):
+        case.ranked_on = (what, float(np.mean([cal.of_on(r) for r in records])))
+
+
+def _at_hand(test: dict, calibrations):
+    """A common test's record: one a calibration keeps in memory, else its file read as calibrated; None: gone."""
+    key = data_key(test)
+    for cal in calibrations:
+        for rec in cal.records:
+            if ((rec.provenance or {}).get("file") or rec.name, rec.n) == key:
+                return rec
+    rec = read_as_stored(test.get("record") or {})
+    if rec is not None:
+        rec.name = test["name"]
+    return rec
+
+
 def series_spread(cases) -> dict:
     """{spec: {quantity: (min, mean, max, cov)}} over the devices of each model
     whose analysis reached its end (cov = std / |mean|, NaN for a single
-    device); plus 'devices' and 'of'."""
+    device); plus 'devices', 'of' (the mean calibration OF) and 'common_of'
+    (the mean OF on the common record the models rank on; None: none)."""
     out = {}
     ran = [c for c in cases if c.spec is not None and c.result is not None and c.result.solver.completed]
     for spec in dict.fromkeys(c.spec for c in ran):
@@ -217,6 +267,8 @@ def series_spread(cases) -> dict:
             stats[key] = (float(np.min(x)), mean, float(np.max(x)), cov)
         stats["devices"] = [c.device for c in group]
         stats["of"] = float(np.mean([c.of for c in group]))
+        stats["common_of"] = (float(np.mean([c.ranked_on[1] for c in group]))
+                              if all(c.ranked_on for c in group) else None)
         stats["n_params"] = group[0].n_params
         out[spec] = stats
     return out
@@ -230,16 +282,49 @@ def unfinished(cases) -> list[str]:
             if c.spec is not None and c.result is not None and not c.result.solver.completed]
 
 
+def ranking(spread: dict, cases=()) -> tuple[dict | None, str]:
+    """What the verdict ranks the models by: ({spec: mean OF}, where it is
+    computed), or (None, why they are not ranked).  The OFs rank only on
+    the same data: the common record of ``rank_common`` where every case
+    has it, else the calibration OFs where every model's cases were fitted
+    to the same tests (a series: the same tests for each device)."""
+    ran = [c for c in cases if c.spec in spread and c.result is not None and c.result.solver.completed]
+    if ran and all(c.ranked_on for c in ran):
+        return {s: spread[s]["common_of"] for s in spread}, f"on {ran[0].ranked_on[0]}"
+    data = {s: frozenset(c.fitted_on for c in ran if c.spec == s) for s in spread}
+    if len(set(data.values())) <= 1:
+        return {s: spread[s]["of"] for s in spread}, ""
+    fitted = "; ".join(f"law {s} on {_tests(d)}" for s, d in data.items())
+    return None, (f"fitted to different tests: not ranked ({fitted}; give a test record to rank them on, "
+                  f"frame --rank-on FILE)")
+
+
+def _tests(data: frozenset) -> str:
+    """'a, b' or '12 tests': the tests of a model's cases (Case.fitted_on)."""
+    names = sorted({os.path.splitext(os.path.basename(str(k[0])))[0] for tests in data for k in tests})
+    return ", ".join(names) if len(names) <= 3 else f"{len(names)} tests"
+
+
 def verdict(spread: dict, cases=()) -> str:
     """The simplest model (fewest parameters, then lowest law number) whose mean
     peak drift and damper force are within VERDICT_TOLERANCE of the best-fitting
     model's, with the series scatter (CoV) as the yardstick; an analysis that
-    did not reach its end (in ``cases``) is left out, and said so."""
+    did not reach its end (in ``cases``) is left out, and said so.  The
+    best-fitting model is ranked on the same data only (``ranking``); models
+    whose OFs are not get no best-fitting one, and the verdict says why."""
     gone = unfinished(cases)
     left_out = f"; left out, the analysis did not reach its end: {'; '.join(gone)}" if gone else ""
     if not spread:
         return "no damper model ran to the end" + left_out
-    best = min(spread, key=lambda s: spread[s]["of"])
+    scatter = [spread[s][q][3] for s in spread for q in ("drift", "force") if np.isfinite(spread[s][q][3])]
+    yard = (f"; the series' own scatter (CoV over devices) reaches {100 * max(scatter):.1f}%"
+            if scatter else "; one device per model, no series scatter to compare with")
+    of, where = ranking(spread, cases)
+    if of is None:
+        means = [[spread[s][q][1] for s in spread] for q in ("drift", "force")]
+        apart = max([(max(x) - min(x)) / abs(min(x)) for x in means if min(x) != 0.0], default=0.0)
+        return f"{where}; the models' peak drift and damper force differ by up to {100 * apart:.1f}%{yard}{left_out}"
+    best = min(spread, key=lambda s: of[s])
     ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
 
     def close(s):
@@ -247,12 +332,10 @@ def verdict(spread: dict, cases=()) -> str:
                 and abs(spread[s]["force"][1] - ref_force) <= VERDICT_TOLERANCE * abs(ref_force))
 
     simplest = min((s for s in spread if close(s)), key=lambda s: (spread[s]["n_params"], s))
-    scatter = [spread[s][q][3] for s in spread for q in ("drift", "force") if np.isfinite(spread[s][q][3])]
-    yard = (f"; the series' own scatter (CoV over devices) reaches {100 * max(scatter):.1f}%"
-            if scatter else "; one device per model, no series scatter to compare with")
     diffs = {s: max(abs(spread[s]["drift"][1] / ref_drift - 1), abs(spread[s]["force"][1] / ref_force - 1))
              for s in spread}
     spread_laws = max(diffs.values())
-    return (f"best-fitting model: law {best} (mean OF {spread[best]['of']:.4g}); simplest within "
-            f"{100 * VERDICT_TOLERANCE:.0f}% on peak drift and damper force: law {simplest}; the choice of model "
-            f"changes them by up to {100 * spread_laws:.1f}%{yard}{left_out}")
+    there = f" {where}" if where else ""
+    return (f"best-fitting model{there}: law {best} (mean OF{' there' if where else ''} {of[best]:.4g}); simplest "
+            f"within {100 * VERDICT_TOLERANCE:.0f}% on peak drift and damper force: law {simplest}; the choice of "
+            f"model changes them by up to {100 * spread_laws:.1f}%{yard}{left_out}")

@@ -65,6 +65,8 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                    "pga_g": motion.pga_g, "cases": [{"label": c.label, "model": c.spec, "device": c.device,
                                                      "calibration_of": c.of, "exact": c.exact, "note": c.note,
                                                      "exceeded": c.exceeded, "limits": c.limits,
+                                                     "ranked_on": ({"record": c.ranked_on[0], "of": c.ranked_on[1]}
+                                                                   if c.ranked_on else None),
                                                      "response": c.result.summary() if c.result else None}
                                                     for c in cases],
                    "series": spread, "verdict": text, "settings": settings or {}}

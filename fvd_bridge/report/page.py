@@ -23,7 +23,7 @@ from html import escape
 import numpy as np
 
 from .. import __version__
-from ..calibration import Calibration
+from ..calibration import Calibration, common_tests, same_data
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
@@ -94,10 +94,23 @@ def _series_force(series_cals: list, rec) -> float:
     return float(np.abs(series_cals[0].model.force(rec, P)).max(axis=1).mean())
 
 
+def _best(cals: list, records: dict) -> tuple:
+    """The device's best model and how it was chosen: the lowest OF where
+    all were fitted to the same tests; else the lowest OF on the tests all
+    were fitted on (their records read again); else, not ranked, the first."""
+    if same_data(cals):
+        return min(cals, key=lambda c: c.of), "the lowest OF"
+    common = [records[t["name"]] for t in common_tests(cals) if records.get(t["name"]) is not None]
+    if common:
+        names = ", ".join(r.name for r in common)
+        return min(cals, key=lambda c: np.mean([c.of_on(r) for r in common])), f"the lowest OF on {names}"
+    return cals[0], "fitted to different tests: not ranked, the first file's"
+
+
 def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance: float) -> str:
     """The device's acceptance table: its tests checked against the series'
-    best model (the lowest OF) as the nominal."""
-    best = min(cals, key=lambda c: c.of)
+    best model (``_best``: the lowest OF on the same data) as the nominal."""
+    best, chosen = _best(cals, records)
     rows, notes = [], []
     for test in best.tests:
         rec = records.get(test["name"])
@@ -111,8 +124,8 @@ def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance:
         f"<tr><td>{escape(c.test)}</td><td>{escape(c.what)}</td><td>{short(c.measured)}</td>"
         f"<td>{short(c.reference)}</td><td>{dev}</td><td class='{'pass' if c.passed else 'fail'}'>"
         f"{'pass' if c.passed else 'FAIL'}</td><td>{escape(c.rule)}</td></tr>" for c, dev in rows)
-    caption = (f"acceptance of {device}: tolerance +-{tolerance:.0%}; nominal force: law {best.spec} of the series "
-               f"({len(series[best.spec])} device(s)) at each test's velocity")
+    caption = (f"acceptance of {device}: tolerance +-{tolerance:.0%}; nominal force: law {best.spec} ({chosen}) "
+               f"of the series ({len(series[best.spec])} device(s)) at each test's velocity")
     out = (f"<table class='fvd acceptance'><caption>{escape(caption)}</caption><thead><tr><th>test</th>"
            f"<th>check</th><th>measured</th><th>reference</th><th>deviation</th><th>verdict</th><th>rule</th>"
            f"</tr></thead><tbody>{body}</tbody></table>")
