@@ -31,8 +31,12 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
     record:                              # provenance of the (first) calibration record
       name, file, format, samples, dt [s], columns {t, d, F[, v]}, window,
       source_units {t, d, F[, v]}, velocity {method, ...}, peaks {F [kN], v [mm/s], d [mm]}
-    settings: {...}                      # optimizer, bounds, seed, plugins, ...
+    settings: {...}                      # optimizer, bounds, seed, plugins: [{file, sha256}], ...
     warnings: [...]
+
+A file never runs code: ``settings.plugins`` names the plugin files of the
+model's effects (file name and sha256), and ``load`` imports a plugin only
+when its caller gives it (``plugins=``, ``--plugin``) and it matches.
 """
 
 from __future__ import annotations
@@ -44,7 +48,7 @@ import numpy as np
 import yaml
 
 from . import __version__
-from .catalog import catalog as load_catalog
+from .catalog import catalog_for, plugin_files, recorded_plugins
 from .errors import InputError
 from .fit.layout import SEP, Layout
 from .fit.objective import objective
@@ -531,7 +535,7 @@ class Calibration:
             "tests": _plain(self.tests),
             "tested_range": _plain(self.tested),
             "record": _plain(self.record),
-            "settings": _plain(self.settings),
+            "settings": _plain({**self.settings, "plugins": plugin_files(self.model)}),
             "warnings": [str(w) for w in self.warnings],
         }
 
@@ -581,20 +585,25 @@ class Calibration:
         return path
 
     @classmethod
-    def load(cls, path: str, catalog=None) -> "Calibration":
-        """Read and check a calibration file (schema 1, 2 or 3).
+    def load(cls, path: str, catalog=None, plugins=()) -> "Calibration":
+        """Read and check a calibration file (schema 1, 2 or 3); it imports nothing.
 
         Parameters
         ----------
         path : str
             The calibration file.
         catalog : Catalog, optional
-            Where plugin effects come from; default the plugin files named in its settings.
+            Where plugin effects come from (its plugin files stand for ``plugins``).
+        plugins : list of str
+            The plugin files of a model with effects of your own; each must be
+            the one the file records (same file name and sha256).
 
         Returns
         -------
         Calibration
-            A malformed file raises InputError naming the file and key.
+            A malformed file raises InputError naming the file and key; a
+            model whose plugin is not given, or differs, raises PluginNeeded
+            naming it (file name and sha256).
         """
         data = _read_yaml(path)
         if not isinstance(data, dict) or data.get("kind") != KIND:
@@ -603,8 +612,10 @@ class Calibration:
             raise InputError(f"{path}: key 'schema_version': {data.get('schema_version')!r} is not supported "
                              f"(supported: {', '.join(map(str, READABLE_SCHEMAS))})")
         settings = data.get("settings") or {}
-        if catalog is None:
-            catalog = load_catalog(tuple(settings.get("plugins") or ()))
+        if not isinstance(settings, dict):
+            raise InputError(f"{path}: key 'settings' must be a mapping")
+        catalog = catalog_for(path, data.get("model", ""), recorded_plugins(path, settings.get("plugins") or []),
+                              plugins, catalog)
         try:
             model = catalog.model(data.get("model", ""))
         except InputError as exc:

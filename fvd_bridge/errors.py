@@ -10,6 +10,11 @@ class InputError(Exception):
     """
 
 
+class PluginNeeded(InputError):
+    """A calibration file's model needs a plugin effect the caller did not
+    give (or gave in another version): files name their plugins, never run them."""
+
+
 class FitWarning(UserWarning):
     """A fit ended but deserves a look: a parameter on its bound, runs that
     disagree, a parameter that is not identified."""

@@ -1,6 +1,7 @@
 """The calibrate verb end to end on two rig devices: every output exists and parses."""
 
 import csv
+import hashlib
 import json
 import subprocess
 import sys
@@ -166,6 +167,9 @@ def test_calibrate_with_plugin_effect(two_devices, tmp_path):
     assert res.returncode == 0, res.stderr
     p = yaml.safe_load(open(out / "params" / "dev_a" / "law2+cubic_spring.yaml"))
     assert [e["name"] for e in p["effects"]] == ["cubic_spring"] and "cubic_spring.K3" in p["parameters"]
+    # the file names its plugin by name and content hash; reading it imports nothing by itself
+    assert p["settings"]["plugins"] == [{"file": "my_effects.py",
+                                         "sha256": hashlib.sha256(plugin.read_bytes()).hexdigest()}]
     # the rig device has no cubic spring: the fit leaves it near zero
     assert abs(p["parameters"]["cubic_spring.K3"]["value"]) < 1e-4
     assert (out / "figures" / "loops_dev_a_law2+cubic_spring.png").is_file()

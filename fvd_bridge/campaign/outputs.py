@@ -129,7 +129,7 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True, ex
         if extra is not None:
             extra(stage, summary)
         with timing.stage("  report.html"):
-            build_report(stage, shown_as=out)
+            build_report(stage, shown_as=out, plugins=cs.plugins)
     return summary
 
 

@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import glob
-import hashlib
 import os
 import shutil
 import sys
@@ -44,6 +43,7 @@ from ..campaign.runner import run_campaign, run_intervals
 from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spec
 from ..campaign.stats import OUTLIER_K
 from ..campaign.store import UnitStore
+from ..effects.plugins import file_sha256
 from ..errors import InputError
 from ..records.device import Device
 from .calibrate import campaign_settings, option_parser, parse_option, unique_names
@@ -107,14 +107,6 @@ def read_campaign_file(path: str) -> tuple[dict, argparse.Namespace]:
     return own, args
 
 
-def _file_sha256(path: str) -> str:
-    try:
-        with open(path, "rb") as fh:
-            return hashlib.sha256(fh.read()).hexdigest()
-    except OSError as exc:
-        raise InputError(f"plugin {path}: cannot read ({exc.strerror or exc})") from None
-
-
 def plan(path: str) -> dict:
     """Everything a campaign file says, checked before any work: settings, sources,
     out, executor, acceptance, outlier k, the effective settings of the fingerprint."""
@@ -149,7 +141,7 @@ def plan(path: str) -> dict:
     if executor not in EXECUTORS:
         raise InputError(f"{path}: key 'executor': '{executor}' (expected {' or '.join(EXECUTORS)})")
     settings = {**cs.as_dict(),
-                "plugins": [{"file": os.path.basename(p), "sha256": _file_sha256(p)} for p in cs.plugins],
+                "plugins": [{"file": os.path.basename(p), "sha256": file_sha256(p)} for p in cs.plugins],
                 "source": {"rig": rig} if rig else "records"}
     return {"cs": cs, "args": args, "base": base, "out": args.out, "rig": rig, "records": own.get("records"),
             "devices": own.get("devices"),

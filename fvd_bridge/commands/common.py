@@ -1,4 +1,4 @@
-"""Options shared by verbs that read records."""
+"""Options shared by verbs that read records or calibration files."""
 
 from __future__ import annotations
 
@@ -35,6 +35,14 @@ def add_record_options(p: argparse.ArgumentParser, units_flag: str = "--units") 
     g.add_argument("--sg-order", type=int, default=3, help="Savitzky-Golay polynomial order (default 3)")
     g.add_argument("--window", metavar="T0,T1", help="use only T0 <= t <= T1 [s] of each record (e.g. to leave "
                                                      "out a rest at the start); the velocity is derived first")
+
+
+def add_plugin_option(p: argparse.ArgumentParser) -> None:
+    """--plugin FILE.py: a plugin the calibration files' models need (a file never runs code by itself)."""
+    p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
+                   help="plugin file of effects of your own that a calibration file's model needs (repeatable); "
+                        "it must be the file the calibration records (name and sha256). A calibration file "
+                        "never runs code: its plugins run only when you give them here")
 
 
 def read_options(args) -> ReadOptions:

@@ -173,6 +173,6 @@ def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
                 written += [f"{base}_where_final.png", f"{base}_ladder.png"]
         from ..report.page import build_report
 
-        build_report(stage, shown_as=args.out)
+        build_report(stage, shown_as=args.out, plugins=args.plugin)
         written.append("report.html")
     return [os.path.join(args.out, f) for f in written]

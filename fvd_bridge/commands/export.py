@@ -11,7 +11,7 @@ from ..fit import objective
 from ..golden import golden_record, reference_input
 from ..io.staging import atomic_file
 from ..units import system_text
-from .common import CALIBRATION_RECORD, add_record_options, read_as_calibrated, read_records
+from .common import CALIBRATION_RECORD, add_plugin_option, add_record_options, read_as_calibrated, read_records
 
 
 def add_parser(sub):
@@ -39,6 +39,7 @@ def add_parser(sub):
                    help="drive the OpenSees material with this record's displacement (without RECORD: the "
                         "calibration record, read as it was read) and compare its force with fvd_bridge's model "
                         "(eq. 18); exit 1 with a figure when it misses the documented bound")
+    add_plugin_option(o)
     add_record_options(o, units_flag="--record-units")
     o.set_defaults(func=run_opensees)
     f = targets.add_parser("fmu", help="FMI 3.0 co-simulation FMU of the calibrated damper",
@@ -54,6 +55,7 @@ def add_parser(sub):
     f.add_argument("--h-max", type=float, metavar="S",
                    help="largest internal sub-step [s] (default: the calibration record's dt)")
     f.add_argument("--check", metavar="RECORD", help="check on this record instead of the calibration record")
+    add_plugin_option(f)
     add_record_options(f)
     f.set_defaults(func=run_fmu)
 
@@ -69,7 +71,7 @@ def run_opensees(args) -> int:
         if ext not in (".py", ".tcl"):
             raise InputError(f"-o {args.output}: the suffix must be .py (OpenSeesPy) or .tcl (Tcl)")
         lang = ext[1:]
-    cal = Calibration.load(args.params)
+    cal = Calibration.load(args.params, plugins=args.plugin)
     export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
     record = None
     if args.check == CALIBRATION_RECORD:
@@ -91,7 +93,7 @@ def run_opensees(args) -> int:
         print(f"wrote {args.output}: model {cal.spec}, damper material {export.tag} "
               f"({'exact' if export.exact else 'approximate: ' + export.note})", file=sys.stderr)
         check = None if res is None else {"record": record.name, "of": res.of, "bound": res.bound, "ok": res.ok}
-        _note(cal, args.params, "opensees", args.output, system_text(export.units), check, export.exact)
+        _note(cal, args, "opensees", args.output, system_text(export.units), check, export.exact)
     else:
         sys.stdout.write(script)
     return 0
@@ -151,7 +153,7 @@ def run_fmu(args) -> int:
 
     if not args.output.lower().endswith(".fmu"):
         raise InputError(f"-o {args.output}: the file name must end in .fmu")
-    cal = Calibration.load(args.params)
+    cal = Calibration.load(args.params, plugins=args.plugin)
     record = _fmu_check_record(cal, args)
     if args.check:
         _warn_beyond(cal, record)
@@ -175,22 +177,23 @@ def run_fmu(args) -> int:
         if os.path.exists(tmp):
             os.remove(tmp)
     print(f"wrote {args.output}: model {cal.spec}, FMI 3.0 co-simulation, validated", file=sys.stderr)
-    _note(cal, args.params, "fmu", args.output, system_text(),  # the FMU speaks kN, mm, s
+    _note(cal, args, "fmu", args.output, system_text(),  # the FMU speaks kN, mm, s
           {"record": record.name, "of": of_mirror, "bound": OF_BOUND, "ok": True, "of_d_only": of_d})
     return 0
 
 
-def _note(cal, params_path, kind, file, units, check, exact=None) -> None:
+def _note(cal, args, kind, file, units, check, exact=None) -> None:
     """Note the export in its calibration's output folder (``export.ledger``)
-    and build that folder's report again; nothing when the file lives elsewhere."""
+    and build that folder's report again (with the verb's plugins); nothing
+    when the file lives elsewhere."""
     from ..export.ledger import note_export, output_folder
     from ..report.page import build_report
 
-    out = output_folder(params_path)
+    out = output_folder(args.params)
     if out is None:
         return
-    note_export(out, cal, params_path, kind, file, units, check, exact)
+    note_export(out, cal, args.params, kind, file, units, check, exact)
     try:
-        print(f"noted in {build_report(out)}", file=sys.stderr)
+        print(f"noted in {build_report(out, plugins=args.plugin)}", file=sys.stderr)
     except InputError as exc:  # the export stands; the page waits for `fvd-bridge report`
         print(f"warning: noted in {out}/exports.json; its report.html was not built again: {exc}", file=sys.stderr)

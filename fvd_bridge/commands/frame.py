@@ -14,6 +14,7 @@ from ..errors import InputError
 from ..records import read_record
 from ..records.motions import read_motion
 from ..export.opensees_check import quiet_opensees
+from .common import add_plugin_option
 
 BUILDINGS = ("3-story", "9-story")
 #: --duration keeping less than this share of the record's energy (Arias intensity) is warned about
@@ -63,6 +64,7 @@ def add_parser(sub):
     p.add_argument("--no-figures", action="store_true", help="write no figures")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--profile", action="store_true", help="print where the time went (time per analysis)")
+    add_plugin_option(p)
     p.set_defaults(func=run)
 
 
@@ -126,9 +128,9 @@ def load_inputs(args):
             raise InputError(f"--{name.replace('_', '-')} {value}: must be > 0")
     if args.dampers_per_story < 1:
         raise InputError(f"--dampers-per-story {args.dampers_per_story}: must be at least 1")
-    cals = [Calibration.load(f) for f in calibration_files(args.params)]
+    cals = [Calibration.load(f, plugins=args.plugin) for f in calibration_files(args.params)]
     if args.laws:
-        wanted = {catalog().model(s.strip()).spec for s in args.laws.split(",")}
+        wanted = {catalog(args.plugin).model(s.strip()).spec for s in args.laws.split(",")}
         cals = [c for c in cals if c.spec in wanted]
         if not cals:
             raise InputError(f"--laws {args.laws}: none of the calibration files holds these models")

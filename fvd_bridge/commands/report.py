@@ -6,6 +6,7 @@ import os
 import sys
 
 from ..errors import InputError
+from .common import add_plugin_option
 
 
 def add_parser(sub):
@@ -20,6 +21,7 @@ def add_parser(sub):
     p.add_argument("out", metavar="OUT", help="an output folder of fvd-bridge")
     p.add_argument("--tolerance", type=float, default=None,
                    help="the acceptance checks' tolerance as a share (default: the page's own, else 0.15: +-15%%)")
+    add_plugin_option(p)
     p.set_defaults(func=run)
 
 
@@ -36,6 +38,6 @@ def run(args) -> int:
             f.endswith(("_diagnose.json", "_compare.json")) for f in os.listdir(args.out)):
         raise InputError(f"{args.out}: not an output folder of fvd-bridge (no params/, summary.json, "
                          f"*_diagnose.json, *_compare.json or frame_summary.json)")
-    path = build_report(args.out, tolerance)
+    path = build_report(args.out, tolerance, plugins=args.plugin)
     print(f"wrote {path}", file=sys.stderr)
     return 0

@@ -81,6 +81,10 @@ class Effect:
     ``off(values)``: which rows (pop, n_par) are switched off (default: at
     ``none``; a gap closed at g <= 0, a spring rigid from KS_RIGID).
 
+    ``source``: where it is declared ("built-in", or a plugin file's name)
+    and ``source_sha256`` that file's content hash (hex), which a
+    calibration file records and checks when it is read.
+
     Capabilities (read by composition, diagnose and the exporters):
     ``slots``: the connection kernel's arguments its parameters fill;
     ``inside_with``: connection effects inside which it is solved;
@@ -121,6 +125,7 @@ class Effect:
     fmu: bool = False
     arrangement_of: str = ""
     global_search: bool = False
+    source_sha256: str = ""
 
     @property
     def names(self) -> list[str]:

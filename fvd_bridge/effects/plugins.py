@@ -33,6 +33,16 @@ CONNECTION_SLOTS = ("Ks", "g")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
+def file_sha256(path: str) -> str:
+    """The sha256 (hex) of a file's bytes: how a calibration file names the
+    plugin it needs, and a campaign's fingerprint the plugins it ran with."""
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.sha256(fh.read()).hexdigest()
+    except OSError as exc:
+        raise InputError(f"plugin {path}: cannot read ({exc.strerror or exc})") from None
+
+
 def _module_name(path: str) -> str:
     digest = hashlib.sha1(os.path.abspath(path).encode()).hexdigest()[:10]
     return f"fvd_bridge_plugin_{digest}"
@@ -164,6 +174,7 @@ def load_plugins(paths) -> dict:
     out: dict = {}
     for path in paths:
         module = load_module(path)
+        digest = file_sha256(path)
         effects = getattr(module, "EFFECTS", None)
         if effects is None:
             raise InputError(f"--plugin {path}: defines no EFFECTS list (see examples/custom_effect.py)")
@@ -178,7 +189,8 @@ def load_plugins(paths) -> dict:
         for e in effects:
             if isinstance(e, Effect):
                 # a plugin has no C step form and no OpenSees form: the registry says so
-                e = dataclasses.replace(e, source=os.path.basename(path), fmu=False, opensees=None)
+                e = dataclasses.replace(e, source=os.path.basename(path), source_sha256=digest, fmu=False,
+                                        opensees=None)
             check_effect(e, path)
             if e.name in BUILTIN:
                 raise InputError(f"{path}: effect '{e.name}' clashes with the built-in effect of that name")

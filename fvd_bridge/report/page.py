@@ -27,7 +27,7 @@ from ..calibration import Calibration, common_tests, same_data
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
-from ..errors import InputError
+from ..errors import InputError, PluginNeeded
 from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
@@ -65,12 +65,15 @@ def _json(path: str) -> dict | None:
         return json.load(fh)
 
 
-def _calibrations(out: str) -> dict:
-    """{device: [Calibration]} of the folder's calibration files."""
+def _calibrations(out: str, plugins=()) -> dict:
+    """{device: [Calibration]} of the folder's calibration files (read with
+    the caller's ``plugins``; one whose plugin is not given is an error, not a gap)."""
     found: dict = {}
     for path in sorted(glob.glob(os.path.join(out, "params", "*", "*.yaml"))):
         try:
-            cal = Calibration.load(path)
+            cal = Calibration.load(path, plugins=plugins)
+        except PluginNeeded:
+            raise
         except InputError:  # a file that is not a calibration: not part of the report
             continue
         found.setdefault(os.path.basename(os.path.dirname(path)), []).append(cal)
@@ -307,16 +310,17 @@ def _tolerance_of_page(path: str) -> float | None:
     return float(found.group(1)) if found else None
 
 
-def build_report(out: str, tolerance: float | None = None, shown_as: str | None = None) -> str:
+def build_report(out: str, tolerance: float | None = None, shown_as: str | None = None, plugins=()) -> str:
     """Write ``out``/report.html from the folder's files (calibration files,
     summary.json, a diagnosis', a comparison's or a frame's JSON, exports.json,
     figures) with the acceptance checks at ``tolerance`` (a share; None: the
     one the page there was built with, else ``TOLERANCE``); ``shown_as``: the
-    folder the page names (a verb builds it in its staging folder); returns its path."""
+    folder the page names (a verb builds it in its staging folder);
+    ``plugins``: the plugin files its calibrations' models need; returns its path."""
     path = os.path.join(out, "report.html")
     if tolerance is None:
         tolerance = _tolerance_of_page(path) or TOLERANCE
-    cals = _calibrations(out)
+    cals = _calibrations(out, plugins)
     series = _series_nominal(cals)
     body = [_series_section(out), *[_device_section(out, dev, c, series, tolerance) for dev, c in cals.items()],
             _diagnosis_sections(out), _compare_sections(out)]
