@@ -115,7 +115,7 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
         return Calibration.from_fit(m, best, record, settings_dict, notes, stats, ivals)
 
 
-def diagnose(records, model, seed: int = 0, device: str | None = None, plugins=(), progress=None):
+def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=(), plugins=(), progress=None):
     """Fit ``model`` to ``records`` (one Record, or the tests of one device),
     find where it fails and refit it with each physical effect it lacks.
 
@@ -129,6 +129,11 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, plugins=(
         The fits' seed.
     device : str, optional
         The device's name when ``records`` holds several tests.
+    per_test : list of str
+        Parameters fitted per test (e.g. ``["beta"]``), the base and every
+        candidate, as ``calibrate`` fits them; the others are shared.
+        Without it, several tests are checked for one parameter that
+        differs between them (``.advice``, and the verdict says so first).
     plugins : list of str
         Plugin files with effects of your own (candidates too).
     progress : callable, optional
@@ -137,9 +142,10 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, plugins=(
     Returns
     -------
     Diagnosis
-        ``.candidates`` ranked, ``.best``, ``.verdict()``, ``.accept(effect=None)``
+        ``.candidates`` ranked, ``.best``, ``.advice`` (the parameter the
+        tests disagree on, or None), ``.verdict()``, ``.accept(effect=None)``
         (the refit as a Calibration) and ``.ladder()``.
     """
     with api_errors():
         return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
-                             catalog=catalog(plugins))
+                             catalog=catalog(plugins), per_test=tuple(per_test))

@@ -21,7 +21,7 @@ from fvd_bridge.fit import fit_model
 from fvd_bridge.catalog import catalog
 from fvd_bridge.records import Record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device, acceptance
+from fvd_bridge.rig import Device, acceptance, paper
 from lab import lab_record
 
 C, ALPHA = 45.4, 0.3
@@ -153,6 +153,9 @@ def test_cli_ladder_prints_table_and_writes_figure(friction_csv, tmp_path, capsy
     (["--law", "2", "--plugin", "PLUGIN_BAD"], ["bad_plugin.py", "syntax error"]),
     (["--law", "2", "--plugin", "PLUGIN_CLASH"], ["clashes with the built-in"]),
     (["--law", "2", "--pop", "0"], ["--pop 0"]),
+    (["--law", "2", "--per-test", "C"], ["--per-test needs --device"]),
+    (["--law", "2", "--device", "dev", "--per-test", "K"], ["--per-test K", "no parameter 'K'"]),
+    (["--law", "2", "--device", "dev", "--per-test", "9:C"], ["--per-test 9:C", "not the model diagnosed"]),
 ])
 def test_cli_bad_input_one_line_exit_2(friction_csv, tmp_path, capsys, extra, words):
     bad = tmp_path / "bad_plugin.py"
@@ -230,11 +233,69 @@ def test_next_lines_run_as_printed(friction_csv, tmp_path, capsys):
     code = cli.main(["diagnose", str(friction_csv), "--law", "2", "--out", str(tmp_path / "d"),
                      "--pop", "8", "--gens", "60", "--quiet", "--no-figures"])
     assert code == 0
-    lines = [line[len("next: "):] for line in capsys.readouterr().out.splitlines() if line.startswith("next: ")]
+    out = capsys.readouterr().out
+    lines = [line[len("next: "):] for line in out.splitlines() if line.startswith("next: ")]
     export, again = lines
     assert export.startswith("fvd-bridge export opensees ") and again.endswith("--law 2+friction")
+    # one test: the verdict says its check was the held-out cycles of that test
+    assert "checked on this test's held-out cycles only" in out
     assert str(friction_csv) in again
     res = subprocess.run([*CLI, *shlex.split(export)[1:]], capture_output=True, text=True, env=cli_env(),
                          cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "damper.py").is_file()
+
+
+# ------------------------------------------------------------------ --per-test
+@pytest.fixture(scope="module")
+def disagreeing_tests(tmp_path_factory):
+    """Two lab CSVs (t,d,F and their sidecars) of one law-2 device whose C moved
+    from 40 to 48 between the tests, and the records read back."""
+    folder = tmp_path_factory.mktemp("per_test")
+    records = [lab_record(Device(C=c, alpha=ALPHA), paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004),
+                          0.8, 0.01, seed, folder, name=name)
+               for c, amp, vel, seed, name in ((40.0, 20.0, 250.0, 1, "dev_a"), (48.0, 30.0, 450.0, 2, "dev_b"))]
+    return [folder / "dev_a.csv", folder / "dev_b.csv"], records
+
+
+def test_cli_per_test_advice_and_the_command_it_prints(disagreeing_tests, tmp_path, capsys, monkeypatch):
+    """diagnose --device says the tests disagree on C and prints next: commands
+    with --per-test C; the printed diagnose runs as printed, fits C per test and
+    finds nothing left to explain."""
+    paths, _ = disagreeing_tests
+    monkeypatch.chdir(tmp_path)
+    fast = ["--pop", "8", "--gens", "60", "--quiet", "--no-figures"]
+    assert cli.main(["diagnose", *map(str, paths), "--device", "dev", "--law", "2", *fast]) == 0
+    out = capsys.readouterr().out
+    assert "suggestion: the tests disagree: C differs between tests" in out, out
+    calibrate, again = [line[len("next: "):] for line in out.splitlines() if line.startswith("next: ")]
+    assert calibrate.startswith("fvd-bridge calibrate ") and "--laws 2 --per-test C" in calibrate
+    assert again.startswith("fvd-bridge diagnose ") and again.endswith("--law 2 --per-test C")
+    assert cli.main([*shlex.split(again)[1:], "--json", *fast]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["per_test"] == ["C"] and report["settings"]["per_test"] == ["C"]
+    assert report["params"]["C"] == pytest.approx(40.0, rel=0.03)
+    assert report["params"]["C@dev_b"] == pytest.approx(48.0, rel=0.03)
+    assert report["at_noise_floor"] and report["agreement"]["advice"] is None, report["verdict"]
+    assert (tmp_path / "results" / "diagnose" / "dev_diagnose.json").is_file()
+
+
+def test_api_diagnose_per_test_and_the_ladder(disagreeing_tests):
+    """fb.diagnose(per_test=[...]) fits the parameter per test, the base and every
+    candidate; its ladder keeps it; without it the Diagnosis carries the advice."""
+    import fvd_bridge as fb
+
+    _, records = disagreeing_tests
+    diag = fb.diagnose(records, "2", device="dev")
+    assert diag.advice.name == "C" and diag.verdict().startswith("the tests disagree: C")
+    stopped = diag.ladder()  # no effect is added to a model whose tests disagree
+    assert [r.spec for r in stopped.rungs] == ["2"] and stopped.stop == diag.verdict()
+    freed = fb.diagnose(records, "2", device="dev", per_test=["C"])
+    assert freed.per_test == ("C",) and freed.advice is None
+    assert freed.params()["C@dev_b"] == pytest.approx(48.0, rel=0.03)
+    assert all("C@dev_b" in c.fit.names for c in freed.candidates)
+    lad = freed.ladder()
+    assert [r.spec for r in lad.rungs] == ["2"] and "noise floor" in lad.stop
+    assert "C@dev_b" in lad.rungs[0].params
+    with pytest.raises(fb.InputError, match="per_test"):
+        fb.diagnose(records, "2", device="dev", per_test=["K"])

@@ -292,3 +292,100 @@ def test_diagnose_on_the_tests_of_one_device_leaves_one_test_out(folder):
     assert "held-out tests" in best.reason
     # near its size: short tests (2 cycles, dt 0.004 s), where law 2's alpha trades with a constant force
     assert best.fit.params[best.model.names.index("friction.Ff")] == pytest.approx(ff, rel=0.25), text
+
+
+# ------------------------------------------------------------------ tests that disagree
+def two_tests(folder, tag, C_second=40.0, **params):
+    """Two lab-like tests of the rig's law-2 orifice (C 40 on the first, ``C_second``
+    on the second; 20 mm at 250 mm/s and 30 mm at 450 mm/s, 3 cycles each; force
+    noise 0.8 kN, displacement noise 0.01 mm) with ``params`` on both."""
+    from fvd_bridge.records.device import Device as Tests
+    from lab import lab_record
+
+    a = lab_record(Device(C=40.0, alpha=ALPHA, **params), paper(amplitude=20.0, velocity=250.0, cycles=3, dt=0.004),
+                   0.8, 0.01, 1, folder, name=f"{tag}_a")
+    b = lab_record(Device(C=C_second, alpha=ALPHA, **params),
+                   paper(amplitude=30.0, velocity=450.0, cycles=3, dt=0.004), 0.8, 0.01, 2, folder, name=f"{tag}_b")
+    return Tests(tag, [a, b])
+
+
+def test_tests_that_disagree_on_one_parameter_get_the_per_test_advice(folder):
+    """C 40 on one test, 48 on the other (a device whose setting changed between
+    tests): diagnose says the tests disagree on C before any effect, with each
+    test's value, and the next command frees C per test."""
+    diag = diagnose(two_tests(folder, "differ", C_second=48.0), "2", seed=0, settings=SETTINGS)
+    text = format_diagnosis(diag)
+    assert diag.advice is not None and diag.advice.name == "C", text
+    assert diag.verdict().startswith("the tests disagree: C differs between tests"), text
+    assert "calibrate with --per-test C" in diag.verdict()
+    assert diag.advice.values == {"differ_a": pytest.approx(40.0, rel=0.03), "differ_b": pytest.approx(48.0, rel=0.03)}
+    assert diag.advice.share > 0.9 and diag.advice.of <= 1.5 * diag.floor, text
+    assert diag.suggestions == [], text  # no effect takes up the difference
+    assert "next: fvd-bridge diagnose RECORD --device differ --law 2 --per-test C" in text
+    # given --per-test C, base and candidates fit C per test: nothing is left to explain
+    freed = diagnose(two_tests(folder, "differ", C_second=48.0), "2", seed=0, settings=SETTINGS, per_test=["C"])
+    assert freed.per_test == ("C",) and freed.advice is None, format_diagnosis(freed)
+    assert freed.params()["C@differ_b"] == pytest.approx(48.0, rel=0.03)
+    assert freed.of == pytest.approx(diag.advice.of, rel=0.01) and freed.at_floor
+    assert all(set(c.fit.names) >= {"C", "C@differ_b"} for c in freed.candidates)
+
+
+@pytest.mark.parametrize("params", [dict(heating=3.0), dict()], ids=["heating", "plain"])
+def test_tests_of_one_parameter_set_get_no_per_test_advice(folder, params):
+    """The same device on both tests: no per-test advice, with heating too (its
+    force falls more on the test that dissipates more, which a C per test
+    imitates in part): the heating is credited."""
+    diag = diagnose(two_tests(folder, f"same_{len(params)}", **params), "2", seed=0, settings=SETTINGS)
+    text = format_diagnosis(diag)
+    assert diag.agreement is not None and diag.advice is None, text
+    assert "tests disagree" not in text
+    if params:
+        assert diag.best is not None and diag.best.effect == "thermal_softening", text
+
+
+def test_an_effect_that_predicts_a_held_out_test_worse_is_not_recommended(folder):
+    """A force offset (a load-cell zero) on one of two tests: a preload fitted to
+    both lowers their joint OF, but fitted on the offset test it predicts the
+    other worse than the base does, and is not recommended."""
+    tests = []
+    for k, (amp, vel, offset) in enumerate(((20.0, 250.0, 12.0), (30.0, 450.0, 0.0))):
+        tr = trace(Device(C=40.0, alpha=ALPHA), paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004))
+        tests.append(lab_from_forces(tr["t"], tr["d"], tr["F"] + offset, 0.8, 0.01, 30 + k, folder, name=f"zero_{k}"))
+    from fvd_bridge.records.device import Device as Tests
+
+    diag = diagnose(Tests("zero", tests), "2", seed=0, settings=SETTINGS)
+    text = format_diagnosis(diag)
+    preload = diag.candidate("parallel_stiffness")
+    assert preload.improvement > 0.1 and preload.held_out["worse"] == ["test zero_1"], text
+    assert preload.held_out["with"][1] > preload.held_out["base"][1]
+    assert not preload.significant and "predicts test zero_1 worse than the base" in preload.reason, text
+    assert "parallel_stiffness" not in [c.effect for c in diag.suggestions]
+
+
+@pytest.mark.slow
+def test_shared_friction_damper_tests_disagree_on_the_band_tension(shared_dir, tmp_path, capsys):
+    """The shared friction damper's two tests (the band tension differs between
+    them), read as the CLI reads them: diagnose --device --law 9 says the tests
+    disagree on beta (calibrate --per-test 9:beta: OF 0.200 -> 0.179) and the next
+    command frees it; no effect is recommended over it."""
+    import json
+
+    from fvd_bridge import cli
+
+    files = [shared_dir / "devices" / f for f in ("arts_brfd_0.5Hz_25lb.csv", "arts_brfd_1Hz_35lb.csv")]
+    if not all(f.is_file() for f in files):
+        pytest.skip("../shared/devices lacks the friction-damper records")
+    assert cli.main(["diagnose", *map(str, files), "--device", "brfd", "--law", "9", "--out", str(tmp_path),
+                     "--quiet", "--no-figures"]) == 0
+    report = json.loads((tmp_path / "brfd_diagnose.json").read_text())
+    assert report["of"] == pytest.approx(0.200, abs=0.002)
+    agreement = report["agreement"]
+    assert agreement["advice"] == "beta", agreement
+    beta = next(p for p in agreement["params"] if p["name"] == "beta")
+    assert beta["of"] == pytest.approx(0.179, abs=0.002) and beta["share_of_disagreement"] > 0.5
+    assert report["verdict"].startswith("the tests disagree: beta differs between tests")
+    for c in report["all_candidates"]:  # an effect credited on held-out tests predicts none of them worse
+        if c["significant"]:
+            assert all(w <= b for w, b in zip(c["held_out"]["with"], c["held_out"]["base"])), c
+    nexts = [line for line in capsys.readouterr().out.splitlines() if line.startswith("next: ")]
+    assert nexts and all("--per-test beta" in line for line in nexts), nexts

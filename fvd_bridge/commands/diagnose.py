@@ -35,6 +35,10 @@ def add_parser(sub):
                         "leaving one test out")
     p.add_argument("--law", required=True, metavar="SPEC",
                    help="model to diagnose: a law (see `fvd-bridge laws`), optionally with effects, e.g. 2 or 2+friction")
+    p.add_argument("--per-test", action="append", default=[], metavar="NAME",
+                   help="with --device: fit this parameter per test (the rest shared), the base and every "
+                        "candidate, as calibrate --per-test does, e.g. --per-test beta (repeatable). Without it, "
+                        "diagnose checks whether one parameter differs between the tests and says which")
     p.add_argument("--ladder", action="store_true",
                    help="add the best effect, refit, repeat while it helps beyond noise; print the ladder")
     p.add_argument("--max-rungs", type=int, metavar="N", help="with --ladder: add at most N effects")
@@ -66,6 +70,9 @@ def run(args) -> int:
             raise InputError(f"--{name.replace('_', '-')} {value}: must be at least 1")
     cat = catalog(args.plugin)
     model = cat.model(args.law)  # refuse a bad spec before reading anything
+    per_test = tuple(_per_test(text, model) for text in args.per_test)
+    if per_test and not args.device:
+        raise InputError("--per-test needs --device NAME (the records as tests of one device)")
     settings = diagnose_settings(args.pop, args.gens)
     records = read_records(args.record, args)
     if len(records) > 1 and not args.device:
@@ -81,12 +88,13 @@ def run(args) -> int:
     lad = None
     with timing.stage("ladder" if args.ladder else "diagnose"):
         if args.ladder:
-            lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat)
+            lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat, per_test=per_test)
             diag = lad.final
         else:
-            diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat)
+            diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat, per_test=per_test)
     report = diag.as_dict()
-    report["settings"] = {"seed": args.seed, "optimizer": DEFAULT_OPTIMIZER, **asdict(settings)}
+    report["settings"] = {"seed": args.seed, "optimizer": DEFAULT_OPTIMIZER, **asdict(settings),
+                          **({"per_test": list(per_test)} if per_test else {})}
     if lad is not None:
         report["ladder"] = lad.as_dict()
     fits = _refits(diag, lad)
@@ -107,6 +115,17 @@ def run(args) -> int:
         if files:
             print(f"\nwrote {', '.join(files)}")
     return 0
+
+
+def _per_test(text: str, model) -> str:
+    """'[SPEC:]NAME' (calibrate's form; SPEC must be --law's) -> NAME, a parameter of ``model``."""
+    spec, _, name = str(text).rpartition(":")
+    if spec and spec != model.spec:
+        raise InputError(f"--per-test {text}: law {spec} is not the model diagnosed ({model.spec})")
+    if name not in model.names:
+        raise InputError(f"--per-test {text}: model {model.spec} has no parameter '{name}' "
+                         f"(has: {', '.join(model.names)})")
+    return name
 
 
 def _refits(diag, lad) -> dict:
@@ -131,19 +150,27 @@ def _hand_over(report: dict, paths: dict) -> None:
 
 
 def _next_lines(args, diag, paths: dict) -> list:
-    """Commands that run as printed: export the best candidate's calibration
-    file (to OpenSees where it exports there, else to an FMU), and diagnose
-    it further on the same record read the same way."""
+    """Commands that run as printed: where the tests disagree on a parameter
+    (``Diagnosis.advice``), calibrate and diagnose again with it per test;
+    else export the best candidate's calibration file (to OpenSees where it
+    exports there, else to an FMU), and diagnose it further on the same
+    record read the same way (with the same --per-test)."""
     best = diag.best
-    if best is None or best.spec not in paths:
+    advice = diag.advice if not diag.at_floor else None
+    if advice is None and (best is None or best.spec not in paths):
         return []
-    target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
     reading = [f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"
                for name in READING if getattr(args, name, None) is not None]
     plugins = [f"--plugin {shlex.quote(p)}" for p in args.plugin]
     device = [f"--device {shlex.quote(args.device)}"] if args.device else []
-    again = ["fvd-bridge diagnose", *map(shlex.quote, args.record), *device, *reading, *plugins,
-             f"--law {best.spec}"]
+    records = [*map(shlex.quote, args.record), *device, *reading, *plugins]
+    flags = [f"--per-test {shlex.quote(n)}" for n in (*diag.per_test, *([advice.name] if advice else []))]
+    if advice is not None:
+        out = shlex.quote(os.path.join(os.path.dirname(os.path.normpath(args.out)) or ".", "calibrate"))
+        return [" ".join(["fvd-bridge calibrate", *records, f"--laws {diag.spec}", *flags, f"--out {out}"]),
+                " ".join(["fvd-bridge diagnose", *records, f"--law {diag.spec}", *flags])]
+    target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
+    again = ["fvd-bridge diagnose", *records, f"--law {best.spec}", *flags]
     return [f"fvd-bridge export {target} {shlex.quote(paths[best.spec])} -o {output}", " ".join(again)]
 
 

@@ -15,7 +15,10 @@ Given several tests of one device (a Device), the base and every candidate
 are fitted to the tests together, the floor is the tests' weighted mean,
 the residual's analysis and the effects' sizes are those of the test the
 base misses most (the focus), and the held-out check leaves one test out
-in turn."""
+in turn.  Before effects are ranked, each law parameter is freed per test
+in turn: where one explains most of how the tests disagree, the verdict
+says so first (``agree.py``).  ``per_test``: parameters the base and every
+candidate fit per test (``--per-test``, as calibrate fits them)."""
 
 from __future__ import annotations
 
@@ -28,8 +31,10 @@ from ..catalog import catalog as default_catalog
 from .. import timing
 from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
+from ..fit.layout import Layout
 from ..records.device import as_device
 from . import where as where_mod
+from . import agree
 from .floor import input_noise_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
 
@@ -73,6 +78,8 @@ class Diagnosis:
     base_history: list = field(default_factory=list)  # [(how, OF)] of the base fit's rounds
     tests: list = field(default_factory=list)  # [(test name, OF)] of a device's tests
     focus: object = None  # the Record analysed (a device: the test the base misses most)
+    per_test: tuple = ()  # parameters fitted per test (--per-test)
+    agreement: agree.Agreement | None = None  # do the tests agree with one parameter set (several tests)
     inputs: dict = field(default_factory=dict, repr=False)  # record, seed, settings, catalog: ladder() and accept()
 
     def __repr__(self) -> str:
@@ -144,7 +151,8 @@ class Diagnosis:
         from .ladder import climb
 
         i = self.inputs
-        return climb(i["record"], self.model, i["seed"], i["settings"], max_rungs, progress, i["catalog"])
+        return climb(i["record"], self.model, i["seed"], i["settings"], max_rungs, progress, i["catalog"],
+                     self.per_test)
 
     @property
     def spec(self) -> str:
@@ -170,6 +178,12 @@ class Diagnosis:
     def suggestions(self) -> list[Candidate]:
         """Candidates that help beyond noise, best first."""
         return [c for c in self.candidates if c.significant]
+
+    @property
+    def advice(self) -> agree.PerTest | None:
+        """The parameter the tests disagree on, when freeing it per test
+        explains their disagreement (``agree.py``; None: they agree)."""
+        return None if self.agreement is None else self.agreement.advice
 
     @property
     def best(self) -> Candidate | None:
@@ -210,6 +224,8 @@ class Diagnosis:
             "base_history": [{"how": how, "of": of} for how, of in self.base_history],
             "tests": [{"name": name, "of": of} for name, of in self.tests],
             "focus": getattr(self.focus, "name", self.record),
+            "per_test": list(self.per_test),
+            "agreement": None if self.agreement is None else self.agreement.as_dict(),
             "params": self.params(),
             "units": dict(zip(self.fit.names, self.fit.units)),
             "on_bound": [list(x) for x in self.on_bound()],
@@ -224,11 +240,14 @@ class Diagnosis:
         Returns
         -------
         str
-            Nothing left to explain, the effect to add, or why none helps.
+            Nothing left to explain, the parameter the tests disagree on,
+            the effect to add, or why none helps.
         """
         if self.at_floor:
             return (f"nothing left to explain: OF {self.of:.4g} is at the noise floor {self.floor:.4g} "
                     f"(within {self.judge.margin:.2g})")
+        if self.advice is not None:
+            return self.agreement.verdict()
         b = self.best
         if b is None and not self.candidates:
             return (f"OF {self.of:.4g} is {self.of / self.floor:.1f}x the noise floor; "
@@ -239,11 +258,17 @@ class Diagnosis:
         if b is None:
             return (f"no candidate effect helps beyond noise (OF {self.of:.4g}, {self.of / self.floor:.1f}x "
                     f"the noise floor): the misfit is not one of the known effects")
-        return b.explanation
+        return b.explanation + self.held_out_scope
+
+    @property
+    def held_out_scope(self) -> str:
+        """'; checked on this test's held-out cycles only' for a single test
+        (a device's effects are checked on each test left out)."""
+        return "" if len(self.tests) > 1 else "; checked on this test's held-out cycles only"
 
 
 def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,
-             progress=None, parent=True, catalog=None) -> Diagnosis:
+             progress=None, parent=True, catalog=None, per_test=()) -> Diagnosis:
     """Fit ``model`` (a Model, or a spec resolved by ``catalog``, default the
     built-in one) to ``record``, or converge ``base_fit`` further (DE from it),
     analyse the residual, and refit with every effect of the catalog not in
@@ -252,27 +277,31 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     ``parent``: for a model with effects, how far the error fell from the
     model without its last effect: True fits that model too, a (spec, OF)
     pair is taken as given, None skips it.  ``progress(message)`` receives
-    one line per fit."""
+    one line per fit.  ``per_test``: parameters fitted per test (a Device)."""
     t0 = time.perf_counter()
     settings = settings or diagnose_settings()
     catalog = catalog or default_catalog()
     if isinstance(model, str):
         model = catalog.model(model)
     say = progress or (lambda message: None)
+    device = as_device(record)
+    per_test = tuple(dict.fromkeys(per_test)) if len(device.tests) > 1 else ()
+    Layout(model, tuple(device.test_names), per_test)  # refuses a name the model lacks
     if base_fit is None:  # as calibrate's first run
         with timing.stage("  base fit"):
             base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],
-                                 settings=settings_for(DEFAULT_OPTIMIZER))
+                                 settings=settings_for(DEFAULT_OPTIMIZER), per_test=per_test)
         history = [("fitted as calibrate", float(base_fit.of))]
         say(f"fitted {model.spec}: OF {base_fit.of:.5g} ({base_fit.wall_s:.1f} s)")
     else:
         history = [("given", float(base_fit.of))]
         with timing.stage("  base fit"):
             base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
-                                 start=base_fit.params)
+                                 start=base_fit.params, per_test=per_test)
         if base_fit.of < history[0][1] * (1.0 - BASE_TOL):
             history.append(("converged from the given fit", float(base_fit.of)))
     found: list = []
+    agreement = None
     if candidates:
         def report(c):
             label = f"~ {c.effect} for {c.replaces}" if c.replaces else f"+ {c.effect}"
@@ -280,36 +309,44 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
 
         keep: dict = {}
         for _ in range(MAX_BASE_ROUNDS):
-            found = refit_all(model, base_fit, record, catalog.effects, seed, settings, report, keep)
+            found = refit_all(model, base_fit, record, catalog.effects, seed, settings, report, keep, per_test)
             of_off, start = lower_base(found, model)
             if start is None or not of_off < base_fit.of * (1.0 - BASE_TOL):
                 break
-            params, of = polish_model(model, record, start)
+            params, of = polish_model(model, record, start, per_test=per_test)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
             base_fit.params, base_fit.of = params, of
             history.append(("lowered by a candidate's refit", float(of)))
             keep = {c.effect: c for c in found if not c.replaces}
-    device = as_device(record)
-    test_of = [evaluate_params(model, t, base_fit.params) for t in device.tests]
+    split = agree.per_test_params(model, device, base_fit.params, per_test)
+    test_of = [evaluate_params(model, t, p) for t, p in zip(device.tests, split)]
     k_focus = int(np.argmax(test_of))
     focus = device.tests[k_focus]
-    F_model = model.force(focus, base_fit.params[None, :])[0]
+    F_model = model.force(focus, split[k_focus][None, :])[0]
     with timing.stage("  input-noise floor"):
-        noises = [input_noise_floor(model, base_fit.params, t, seed) for t in device.tests]
+        noises = [input_noise_floor(model, p, t, seed) for t, p in zip(device.tests, split)]
     noise = dict(noises[k_focus])
     noise["floor"] = float(np.dot(device.weights, [n["floor"] for n in noises]))
     noise["force_floor"] = float(np.dot(device.weights, [n["force_floor"] for n in noises]))
     judge = Judge(noise["floor"], device.n, noise["force_floor"])
     diag = Diagnosis(device.name, model, base_fit, F_model, noise["sigma_F"], judge,
                      where_mod.analyse(focus, F_model), noise=noise, base_history=history,
-                     tests=list(zip(device.test_names, test_of)) if len(device.tests) > 1 else [], focus=focus)
-    diag.candidates = assess(found, model, base_fit, device, judge, noise["sigma_d"], focus) if found else []
+                     tests=list(zip(device.test_names, test_of)) if len(device.tests) > 1 else [], focus=focus,
+                     per_test=per_test)
+    if candidates and len(device.tests) > 1:  # before the effects: do the tests agree?
+        say("do the tests agree? each law parameter freed per test, refitted from the base:")
+        with timing.stage("  per-test check"):
+            agreement = agree.check(model, base_fit, device, judge, per_test, say)
+    diag.candidates = (assess(found, model, base_fit, device, judge, noise["sigma_d"], focus, per_test)
+                       if found else [])
+    agree.advise(agreement, diag.candidates)
+    diag.agreement = agreement
     if parent is True and model.effects and base_fit.parent:  # the nested fit the base started from
         parent = (base_fit.parent[0], float(base_fit.parent[1]))
     elif parent is True and model.effects:  # fitted as calibrate fits it: the best base available
         parent_model = model.without_effect(model.effects[-1].name)
         pfit = fit_model(parent_model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],
-                         settings=settings_for(DEFAULT_OPTIMIZER))
+                         settings=settings_for(DEFAULT_OPTIMIZER), per_test=agree.free(parent_model, per_test))
         parent = (parent_model.spec, float(pfit.of))
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
     diag.parent = parent if isinstance(parent, tuple) else None

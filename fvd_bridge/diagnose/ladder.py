@@ -4,7 +4,10 @@ Each rung's model is the previous one plus the candidate that lowered the OF
 most among those that pass the noise test (rank.Judge: a drop beyond the
 noise-floor uncertainty and a lower BIC, the guard against overfitting).
 The ladder stops when no candidate passes, when the model reaches the noise
-floor, or when every effect is in.
+floor, when every effect is in, or, with several tests of a device, when
+the tests disagree on one parameter (``agree.py``): effects added to a
+model whose tests disagree would fit their difference; run it again with
+``--per-test NAME`` (``per_test``), which every rung then fits per test.
 """
 
 from __future__ import annotations
@@ -49,12 +52,14 @@ class Ladder:
 
 
 def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = None, progress=None,
-          catalog=None) -> Ladder:
-    """Run the ladder from ``model`` (a Model, or a spec resolved by ``catalog``);
-    returns every rung and each rung's diagnosis."""
+          catalog=None, per_test=()) -> Ladder:
+    """Run the ladder from ``model`` (a Model, or a spec resolved by ``catalog``;
+    ``per_test``: parameters fitted per test); returns every rung and each
+    rung's diagnosis."""
     t0 = time.perf_counter()
     lad = Ladder()
-    diag = diagnose(record, model, seed, settings, progress=progress, parent=None, catalog=catalog)
+    diag = diagnose(record, model, seed, settings, progress=progress, parent=None, catalog=catalog,
+                    per_test=per_test)
     lad.diagnoses.append(diag)
     lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), dict(zip(diag.fit.names, diag.fit.units))))
     while True:
@@ -63,6 +68,9 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
             break
         if diag.at_floor:
             lad.stop = "at the noise floor: nothing left to explain"
+            break
+        if diag.advice is not None:
+            lad.stop = diag.verdict()
             break
         best = diag.best
         if best is None:
@@ -77,7 +85,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
         at_floor = diag.judge.at_floor(best.of)
         diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not (at_floor or last),
-                        progress=progress, parent=(prev.spec, prev.of), catalog=catalog)
+                        progress=progress, parent=(prev.spec, prev.of), catalog=catalog, per_test=per_test)
         lad.diagnoses.append(diag)
         lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
                               dict(zip(diag.fit.names, diag.fit.units)), best.explanation, best.effect))

@@ -24,7 +24,8 @@ And none counts when the model is already at the noise floor
 Beyond the noise test an effect must be on (its refit's OF rises by more
 than the margin when the effect alone is switched off), of a size the
 record resolves and a real device could have (``sizes.py``), and help on
-held-out cycles (``heldout.py``).
+held-out cycles, or with several tests on each test left out, without
+predicting any of them worse than the base (``heldout.py``).
 
 Each refit is a real fit (fit_model, seeded) of the model with the effect,
 whose first population holds the nested start (the base parameters with the
@@ -43,9 +44,11 @@ import numpy as np
 
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model
+from ..fit.layout import SEP
 from ..fit.nested import nested_start
 from ..records.device import as_device
 from . import sizes
+from .agree import free, residuals
 from .heldout import BaseFolds, held_out
 from .where import effective_samples
 
@@ -163,21 +166,22 @@ def arrangements(model, effects: dict) -> list[tuple]:
             if (y.arrangement_of == x.name or x.arrangement_of == y.name) and not placed_alike(model, x, y)]
 
 
-def _refit(model, record, start, base_fit, seed, settings, name, replaces, scales, progress):
+def _refit(model, record, start, base_fit, seed, settings, name, replaces, scales, progress, per_test):
     t0 = time.perf_counter()
     with timing.stage(f"  refit {'~' if replaces else '+'}{name}"):
         fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
-                        start=start, overrides=base_fit.widened, widen=False)  # the base's bounds, as it widened them
+                        start=start, overrides=base_fit.widened, widen=False,  # the base's bounds, as it widened them
+                        per_test=per_test)
     cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0, replaces)
     effect = model.effects[-1]
-    cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, effect, scales))
+    cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, effect, scales), per_test=per_test)
     if progress:
         progress(cand)
     return cand
 
 
 def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, progress=None,
-              keep: dict | None = None) -> list[Candidate]:
+              keep: dict | None = None, per_test=()) -> list[Candidate]:
     """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) that
     the model can take (``Model.refusal``: not already in it, not a series
     effect on a law without a connection, ...; an arrangement that gives the
@@ -185,7 +189,8 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
     candidate in ``keep`` ({effect: Candidate}) whose OF is not above the
     base's is kept as it is.  Then each effect of the base in its other
     arrangement (``arrangements``: the seal behind a connection's spring or
-    beside an oil column), from the base's values."""
+    beside an oil column), from the base's values.  ``per_test``: the
+    parameters the base fits per test (each candidate that has them too)."""
     scales = record.scales()
     out = []
     for name, e in effects.items():
@@ -199,8 +204,9 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
             out.append(old)
             continue
         model = base_model.with_effect(e)
-        start = nested_start(model, record, base_fit.names, base_fit.params)
-        out.append(_refit(model, record, start, base_fit, seed, settings, name, "", scales, progress))
+        pt = free(model, per_test)
+        start = nested_start(model, record, base_fit.names, base_fit.params, pt)
+        out.append(_refit(model, record, start, base_fit, seed, settings, name, "", scales, progress, pt))
     for old, new in arrangements(base_model, effects):
         rest = base_model.without_effect(old.name)
         if rest.refusal(new):
@@ -208,8 +214,9 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
         model = rest.with_effect(new)
         values = dict(zip(base_fit.names, map(float, base_fit.params)))
         given = dict(values, **{n: values[o] for o, n in zip(old.names, new.names)})
-        start = nested_start(model, record, list(given), list(given.values()))
-        out.append(_refit(model, record, start, base_fit, seed, settings, new.name, old.name, scales, progress))
+        pt = free(model, per_test)
+        start = nested_start(model, record, list(given), list(given.values()), pt)
+        out.append(_refit(model, record, start, base_fit, seed, settings, new.name, old.name, scales, progress, pt))
     return out
 
 
@@ -219,25 +226,31 @@ def lower_base(candidates, base_model) -> tuple[float, np.ndarray | None]:
     best = min((c for c in candidates if not c.replaces), key=lambda c: c.off_of, default=None)
     if best is None:
         return math.inf, None
-    cols = best.model.columns_without(best.effect)
+    kept = set(best.model.columns_without(best.effect))
+    cols = [k for k, n in enumerate(best.fit.names)  # per-test columns 'NAME@TEST' too
+            if best.model.names.index(n.split(SEP)[0]) in kept]
     return best.off_of, best.fit.params[cols]
 
 
-def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: float, focus=None) -> list[Candidate]:
+def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: float, focus=None,
+           per_test=()) -> list[Candidate]:
     """Judge each candidate against the converged base (module docstring);
     those that count first, each group by OF (lowest first).  ``record``: a
     Record or a Device (its tests' residuals together; held-out: leave one
-    test out); ``focus``: the test sizes are judged on (default the first)."""
+    test out); ``focus``: the test sizes are judged on (default the first);
+    ``per_test``: the parameters the base and candidates fit per test."""
     folds = None
-    tests = as_device(record).tests
+    device = as_device(record)
+    tests = device.tests
     focus = focus or tests[0]
     for c in candidates:
         e = c.model.effects[-1]
         c.improvement = float((base_fit.of - c.of) / base_fit.of) if base_fit.of > 0 else 0.0
-        residual = np.concatenate([t.F - c.model.force(t, c.fit.params[None, :])[0] for t in tests])
+        residual = residuals(c.model, device, c.fit.params, per_test)
         dk = len(c.model.parameters) - len(base_model.parameters)
         ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, dk, residual)
-        c.size = sizes.effect_size(e, sizes.effect_values(c.model, c.fit.params, e.name), focus, sigma_d)
+        values = sizes.effect_values(c.model, c.fit.params[:len(c.model.names)], e.name)
+        c.size = sizes.effect_size(e, values, focus, sigma_d)
         c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
         if c.replaces:
             c.explanation = f"{e.summary}; replace {c.replaces} by {e.name} ({c.size.text})"
@@ -254,12 +267,15 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
             ok, reason = False, f"implausible size: {c.size.why}"
         if ok:
             with timing.stage("  held-out checks"):
-                folds = folds or BaseFolds(base_model, base_fit.params, record)
+                folds = folds or BaseFolds(base_model, base_fit.params, record, per_test)
                 c.held_out = held_out(folds, c.model, c.fit.params, c.improvement)
-            if not c.held_out["passes"]:
+            gains = ", ".join(f"{g:+.0%}" for g in c.held_out["gain"])
+            if c.held_out["worse"]:
+                ok, reason = False, (f"predicts {' and '.join(c.held_out['worse'])} worse than the base "
+                                     f"when held out ({gains})")
+            elif not c.held_out["passes"]:
                 unit = "tests" if len(tests) > 1 else "cycles"
-                ok, reason = False, (f"no gain on held-out {unit} (" +
-                                     ", ".join(f"{g:+.0%}" for g in c.held_out["gain"]) + ")")
+                ok, reason = False, f"no gain on held-out {unit} ({gains})"
             else:
                 reason = f"helps beyond noise, on held-out {'tests' if len(tests) > 1 else 'cycles'} too"
         c.significant, c.reason = ok, reason

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..fit import mean_abs_noise
+from .agree import MOST
 from .where import summary_lines
 
 #: how many helpful candidates get their one-line physical explanation
@@ -36,8 +37,9 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
              f"{n.get('sigma_v', 0.0):.3g} mm/s) through the model: {diag.floor:.4g}",
              f"parameters: {_params(f.names, f.params, f.units)}"]
     if diag.tests:
-        lines.append(f"tests of device {diag.record} (fitted together; the residual below is of "
-                     f"{diag.focus.name}, where the model fails most): "
+        lines.append(f"tests of device {diag.record} (fitted together"
+                     + (f", {', '.join(diag.per_test)} per test" if diag.per_test else "")
+                     + f"; the residual below is of {diag.focus.name}, where the model fails most): "
                      + ", ".join(f"{name} OF {of:.4g}" for name, of in diag.tests))
     if len(diag.base_history) > 1:
         lines.append("base fit: " + "; ".join(f"{how} OF {of:.5g}" for how, of in diag.base_history))
@@ -53,11 +55,14 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
     lines.append("")
     lines.append("where the model fails (residual r = measured - model):")
     lines += [f"  {s}" for s in summary_lines(diag.where, floor_kN)]
+    lines += _agreement_lines(diag)
     if diag.candidates:
+        held = ("hold on each test left out, predicting none worse than the base" if len(diag.tests) > 1
+                else "hold on held-out cycles")
         lines.append("")
         lines.append(f"candidate effects (each added to {diag.spec} and refitted; "
                      f"a gain must exceed {diag.judge.margin:.2g} in OF, lower the BIC, be of a size the record "
-                     f"resolves and a device could have, and hold on held-out cycles):")
+                     f"resolves and a device could have, and {held}):")
         lines.append(f"  {'rank':<5}{'effect':<21}{'OF':>9}{'gain':>8}  verdict")
         for k, c in enumerate(diag.candidates, 1):
             lines.append(f"  {k:<5}{c.effect:<21}{c.of:>9.4g}{max(c.improvement, 0.0):>8.1%}  {c.reason}")
@@ -69,16 +74,38 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
             for note in c.on_cap:
                 lines.append(f"  {'':<26}{'':>8}{'':>8}  note: {note}")
     lines.append("")
-    if diag.at_floor or diag.best is None:
+    if not diag.at_floor and diag.advice is not None:
+        lines.append(f"suggestion: {diag.verdict()}")
+        flags = " ".join(f"--per-test {n}" for n in (*diag.per_test, diag.advice.name))
+        for line in next_lines or [f"fvd-bridge diagnose {record_label or 'RECORD'} --device {diag.record} "
+                                   f"--law {diag.spec} {flags}"]:
+            lines.append(f"next: {line}")
+    elif diag.at_floor or diag.best is None:
         lines.append(diag.verdict())
     else:
         for k, c in enumerate(diag.suggestions[:EXPLAIN_TOP]):
             lead = "suggestion:" if k == 0 else "       also:"
-            lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower)")
+            lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower"
+                         f"{diag.held_out_scope})")
             lines.append(f"{'':<12} exports to: {_targets(c.exports)}")
         for line in next_lines or [f"fvd-bridge diagnose {record_label or 'RECORD'} --law {diag.best.spec}"]:
             lines.append(f"next: {line}")
     return "\n".join(lines)
+
+
+def _agreement_lines(diag) -> list[str]:
+    """The per-test check (``agree.py``): each law parameter freed per test."""
+    a = diag.agreement
+    if a is None or not a.params:
+        return []
+    lines = ["", f"do the tests agree? (each law parameter freed per test, refitted from {diag.spec}; fitting "
+                 f"each test on its own reaches OF {a.own_of:.4g}; a parameter must help beyond noise, explain "
+                 f"at least {MOST:.0%} of that and more than any credited effect):",
+             f"  {'parameter':<26}{'OF':>9}{'gain':>8}  verdict"]
+    for p in a.params:
+        lines.append(f"  {p.name + ' per test':<26}{p.of:>9.4g}{max(p.improvement, 0.0):>8.1%}  {p.reason}")
+        lines.append(f"  {'':<26}{'':>9}{'':>8}  fitted: {p.name} {p.text()}")
+    return lines
 
 
 def format_ladder(lad) -> str:

@@ -209,15 +209,16 @@ def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: i
 
 
 def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "auto",
-                 per_test=()) -> tuple[np.ndarray, float]:
-    """From ``start`` (parameters) inside the model's bounds, minimise the OF
-    (of the ``mask``ed samples): (parameters, OF), never worse than
-    ``start``'s.  The local search's least squares from that start alone
+                 per_test=(), overrides: dict | None = None) -> tuple[np.ndarray, float]:
+    """From ``start`` (parameters) inside the model's bounds (``overrides``:
+    {name: (lower, upper)} replacing some, e.g. a fit's widened ones),
+    minimise the OF (of the ``mask``ed samples): (parameters, OF), never
+    worse than ``start``'s.  The local search's least squares from that start alone
     (``fit.local``; also for a model that declares ``global_search``: the
     start is an optimum of a nearby problem, in the right basin)."""
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
-    _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, mask=mask)
+    _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     x, of, history, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
                                   space.to_unit(start))
