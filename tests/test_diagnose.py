@@ -102,7 +102,7 @@ def test_cli_json_report_and_figures(friction_csv, tmp_path, capsys):
     assert code == 0
     report = json.loads(capsys.readouterr().out)
     assert report["model"] == "2"
-    assert report["of"] > 2 * report["noise_floor_of"] > 0
+    assert report["of"] > 1.5 * report["noise_floor_of"] > 0  # beyond NEAR_FLOOR: something to explain
     assert report["candidates"][0]["effect"] == "friction"
     assert set(report["candidates"][0]) >= {"effect", "of", "improvement"}
     assert [c["of"] for c in report["candidates"]] == sorted(c["of"] for c in report["candidates"])
