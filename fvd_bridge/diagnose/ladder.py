@@ -80,11 +80,10 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         if progress:
             progress(f"ladder: adding {best.effect} -> {best.spec}")
         prev = diag
-        # a model at the noise floor, or the last rung allowed, ends the ladder:
-        # its candidates need no refit
+        # the last rung allowed ends the ladder: its candidates need no refit (whether
+        # the new model is at the floor is its own diagnosis's to judge, with its own margin)
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
-        at_floor = diag.judge.at_floor(best.of)
-        diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not (at_floor or last),
+        diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not last,
                         progress=progress, parent=(prev.spec, prev.of), catalog=catalog, per_test=per_test)
         lad.diagnoses.append(diag)
         lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
