@@ -30,7 +30,7 @@ import numpy as np
 
 from ..fit import noise_floor, objective
 from ..records.cycles import force_noise
-from ..records.velocity import rederive
+from ..records.velocity import rederive, rest_mask
 
 #: Monte Carlo draws of the input noise
 FLOOR_DRAWS = 4
@@ -58,6 +58,7 @@ def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_D
     p = np.asarray(params, dtype=float)[None, :]
     F_ref = model.force(record, p)[0] if F_ref is None else F_ref
     rng = np.random.default_rng([int(seed), 1789])
+    still = rest_mask(record)  # the record's rests hold still in every draw (noise on noise hides them)
     ofs, dv = [], []
     for _ in range(draws):
         d_new = record.d + sigma_d * rng.standard_normal(record.n)
@@ -68,6 +69,7 @@ def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_D
             v_new, a_new = record.v + record.v_noise * rng.standard_normal(record.n), record.a
         else:  # exact v and a (a rig record in memory)
             v_new, a_new = record.v, record.a
+        v_new, a_new = np.where(still, 0.0, v_new), np.where(still, 0.0, a_new)
         perturbed = dataclasses.replace(record, d=d_new, v=v_new, a=a_new)
         F_new = model.force(perturbed, p)[0] + sigma_F * rng.standard_normal(record.n)
         ofs.append(float(objective(record.F, record.F + (F_new - F_ref), record.t)))

@@ -49,7 +49,7 @@ import numpy as np
 from ..records.cycles import force_noise
 from ..records.device import as_device
 from ..records.record import Record
-from ..records.velocity import _savgol, derive_with_windows, rederive
+from ..records.velocity import _savgol, derive_with_windows, rederive, rest_mask, runs
 from .api import evaluate_params, polish_model
 from .layout import Layout
 
@@ -103,9 +103,8 @@ def smoothed(record) -> Record:
     window = int(vel.get("window_median") or vel.get("window") or 5)
     window = max(5, min(window if window % 2 else window + 1, record.n - (1 - record.n % 2)))
     d, v, a = (_savgol(record.d, window, 3, k, record.dt) for k in (0, 1, 2))
-    for start, end in vel.get("rests_s") or ():  # the record's rests: the motion holds still there
-        still = (record.t >= record.t[0] + start - 1e-9) & (record.t < record.t[0] + end - 1e-9)
-        d[still], v[still], a[still] = np.mean(d[still]), 0.0, 0.0
+    for start, end in runs(rest_mask(record)):  # the record's rests: the motion holds still there
+        d[start:end], v[start:end], a[start:end] = np.mean(d[start:end]), 0.0, 0.0
     return Record(record.t, d, record.F, v, a, record.name)
 
 

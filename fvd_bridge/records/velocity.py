@@ -276,6 +276,15 @@ def with_windows(X: np.ndarray, dt: float, window: np.ndarray, polyorder: int, d
     return out
 
 
+def rest_mask(record) -> np.ndarray:
+    """Boolean (n,): the samples of the record's rests (its provenance's
+    ``velocity.rests_s``; none for a record without)."""
+    still = np.zeros(record.n, dtype=bool)
+    for start, end in ((record.provenance or {}).get("velocity") or {}).get("rests_s") or ():
+        still |= (record.t >= record.t[0] + start - 1e-9) & (record.t < record.t[0] + end - 1e-9)
+    return still
+
+
 def runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """(first, last + 1) sample of each run of True in a boolean array."""
     edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
