@@ -22,6 +22,7 @@ from fvd_bridge.fit import fit_model
 from fvd_bridge.fit.intervals import intervals
 from fvd_bridge.rig import Device, paper
 from fvd_bridge.records import ReadOptions, Record, read_record
+from fvd_bridge.records.velocity import rest_mask
 from lab import lab_from_forces, lab_record
 
 TRUTH = {"C": 40.0, "alpha": 0.3}
@@ -100,6 +101,10 @@ def test_rests_take_no_force_from_the_velocity_noise(tmp_path):
     assert rests[0][0] == 0.0 and 0.45 <= rests[0][1] <= 0.55 and rests[-1][1] == pytest.approx(rec.t[-1], abs=0.01)
     fit = fit_model(catalog().model("2"), rec, seed=0)
     assert fit.params[0] == pytest.approx(TRUTH["C"], rel=0.004)
+    still = rest_mask(rec)  # the rests' samples are those of zero velocity, in a slice of the record too
+    assert still.sum() > 400 and np.array_equal(still, (rec.v == 0.0) & (rec.a == 0.0))
+    part = rec.slice(100, rec.n - 50)
+    assert np.array_equal(rest_mask(part), still[100:rec.n - 50])
 
 
 def test_law8_names_what_is_not_identified_and_gives_the_product(tmp_path):

@@ -169,7 +169,7 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     notes += [note] if note else []
     n_cycles = validate.check_cycles(path, raw.names["d"], conv["d"])
     dt = float(t[1] - t[0])
-    der = derive(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ")
+    der = derive(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ", t0=float(t[0]))
     if "v" in conv:
         validate.check_velocity(path, raw.names["v"], conv["v"], der.v)
         v = conv["v"]

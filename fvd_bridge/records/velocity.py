@@ -211,13 +211,15 @@ def fixed_derivative(x: np.ndarray, dt: float, sigma: float, deriv: int, window:
 
 
 def derive(d: np.ndarray, dt: float, window: int | None = None, polyorder: int = 3, where: str = "",
-           d_noise: float | None = None, gamma: float = GAMMA) -> Derivatives:
+           d_noise: float | None = None, gamma: float = GAMMA, t0: float = 0.0) -> Derivatives:
     """v [mm/s], a [mm/s^2] and their noise from displacement d [mm] on step dt [s].
 
     ``window`` None: adaptive (ICI, module docstring); an odd number of
     samples: that window everywhere. ``d_noise`` [mm]: the displacement
     noise std (None: estimated from d, cycles.displacement_noise).
-    ``where`` prefixes messages (e.g. the file name).
+    ``where`` prefixes messages (e.g. the file name).  The rests go into
+    the settings as ``rests_s``: [start, end) [s] on the record's clock,
+    whose first sample is at ``t0`` (so a slice of the record keeps them).
     """
     check_settings(window, polyorder, d.size, where)
     if polyorder + 2 > d.size:
@@ -246,7 +248,7 @@ def derive(d: np.ndarray, dt: float, window: int | None = None, polyorder: int =
     at_rest = rests(v, v_noise, dt, gamma)
     if at_rest.any():
         v, a = np.where(at_rest, 0.0, v), np.where(at_rest, 0.0, a)
-        settings["rests_s"] = [[float(i * dt), float(j * dt)] for i, j in runs(at_rest)]
+        settings["rests_s"] = [[float(t0 + i * dt), float(t0 + j * dt)] for i, j in runs(at_rest)]
     return Derivatives(v, a, v_noise, a_noise, sigma, settings, v_window, a_window)
 
 
@@ -281,7 +283,7 @@ def rest_mask(record) -> np.ndarray:
     ``velocity.rests_s``; none for a record without)."""
     still = np.zeros(record.n, dtype=bool)
     for start, end in ((record.provenance or {}).get("velocity") or {}).get("rests_s") or ():
-        still |= (record.t >= record.t[0] + start - 1e-9) & (record.t < record.t[0] + end - 1e-9)
+        still |= (record.t > start - 0.5 * record.dt) & (record.t < end - 0.5 * record.dt)  # on the grid
     return still
 
 
