@@ -139,3 +139,24 @@ def test_intervals_travel_in_the_calibration_file(tmp_path):
     back = Calibration.load(path)
     assert back.interval_lines() == cal.interval_lines()
     assert calibrate(rec, "2", runs=1, intervals=0).intervals == {}
+
+
+def test_the_bootstraps_differentiator_is_savgol_filter_at_each_samples_window():
+    """with_windows (gathered coefficients, scipy's savgol_coeffs at each
+    sample's position) equals scipy's savgol_filter (mode 'interp') run over
+    the whole rows at each window and picked per sample, ends included: the
+    windows a record's derivation chose, on 3 noisy rows with a rest."""
+    from fvd_bridge.records.velocity import _savgol, derive, with_windows
+
+    rng = np.random.default_rng(0)
+    t = np.arange(3000) * 0.002
+    d = 40.0 * np.sin(12.5 * t) * (t > 0.5)
+    der = derive(d + 0.01 * rng.standard_normal(t.size), 0.002)
+    D = d + 0.01 * rng.standard_normal((3, t.size))
+    for deriv, window in ((0, der.v_window), (1, der.v_window), (2, der.a_window)):
+        assert np.unique(window).size > 3 and window[0] > window[t.size // 2]  # long at rest, short in motion
+        ref = np.zeros_like(D)
+        for w in np.unique(window):
+            ref[:, window == w] = _savgol(D, int(w), 3, deriv, 0.002)[:, window == w]
+        got = with_windows(D, 0.002, window, 3, deriv)
+        assert np.max(np.abs(got - ref)) <= 1e-9 * np.max(np.abs(ref))  # two sums of the same products

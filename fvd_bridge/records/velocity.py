@@ -51,6 +51,7 @@ noise [mm/s] go into the record's provenance.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from math import factorial
 
 import numpy as np
@@ -269,13 +270,43 @@ def derive_with_windows(D: np.ndarray, dt: float, windows: tuple, polyorder: int
 
 def with_windows(X: np.ndarray, dt: float, window: np.ndarray, polyorder: int, deriv: int) -> np.ndarray:
     """The deriv-th Savitzky-Golay derivative of the rows of X, each sample
-    with its own window [samples] (``window``, (n,))."""
-    X = np.atleast_2d(X)
-    out = np.empty_like(X, dtype=float)
-    for w in np.unique(window):
-        at = window == w
-        out[:, at] = _savgol(X, int(w), min(polyorder, int(w) - 1), deriv, dt)[:, at]
+    with its own window [samples] (``window``, (n,)): at each sample the
+    polynomial of its window (the record's end window near an end, as
+    savgol_filter's mode 'interp'), from scipy's ``savgol_coeffs`` at that
+    sample's position; only the samples a window serves are computed (a
+    rest's long window costs its samples, not the record's)."""
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    n = X.shape[1]
+    out = np.zeros_like(X)
+    for w in np.unique(window).astype(int):
+        p = min(polyorder, w - 1)
+        if deriv > p:
+            continue
+        at = np.flatnonzero(window == w)
+        starts = np.clip(at - w // 2, 0, n - w)
+        pos = at - starts
+        views = sliding_window_view(X, w, axis=-1)  # (rows, n - w + 1, w), no copy
+        chunk = max(1, CHUNK // (X.shape[0] * w))
+        for where in np.unique(pos):  # the centre, then each position of an end window
+            cols = np.flatnonzero(pos == where)
+            h = _coeffs(w, p, deriv, dt, int(where))
+            for k in range(0, cols.size, chunk):
+                part = cols[k:k + chunk]
+                out[:, at[part]] = views[:, starts[part]] @ h
     return out
+
+
+#: samples x window x rows gathered at once by ``with_windows``
+CHUNK = 2_000_000
+
+
+@lru_cache(maxsize=512)
+def _coeffs(window: int, polyorder: int, deriv: int, dt: float, pos: int) -> np.ndarray:
+    from scipy.signal import savgol_coeffs
+
+    return savgol_coeffs(window, polyorder, deriv=deriv, delta=dt, pos=pos, use="dot")
 
 
 def rest_mask(record) -> np.ndarray:
