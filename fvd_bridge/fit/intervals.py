@@ -189,7 +189,7 @@ def summarize(model, layout, params: np.ndarray, estimates: np.ndarray, bounds=N
                                       f"[{p['ci95'][0]:.4g}, {p['ci95'][1]:.4g}]")
             continue
         lo, hi = ci[j]
-        if bounds is not None and params[j] in (bounds[j][0], bounds[j][1]):
+        if bounds is not None and np.isclose(params[j], bounds[j], rtol=1e-6, atol=0.0).any():  # ended on it
             out.not_identified.append(f"{name}: ended on its search bound [{bounds[j][0]:.4g}, {bounds[j][1]:.4g}]"
                                       f", so its interval is one-sided")
         elif bounds is not None and (lo <= bounds[j][0] < params[j] or hi >= bounds[j][1] > params[j]):
