@@ -66,15 +66,13 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         if max_rungs is not None and len(lad.rungs) > max_rungs:
             lad.stop = f"after {max_rungs} added effect(s) (--max-rungs)"
             break
-        if diag.at_floor:
-            lad.stop = "at the noise floor: nothing left to explain"
-            break
         if diag.advice is not None:
             lad.stop = diag.verdict()
             break
         best = diag.best
         if best is None:
-            lad.stop = ("no effect helps beyond noise" if diag.candidates
+            lad.stop = ("at the noise floor: nothing left to explain" if diag.at_floor
+                        else "no effect helps beyond noise" if diag.candidates
                         else "every effect is already in the model")
             break
         if progress:

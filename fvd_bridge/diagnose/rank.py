@@ -3,14 +3,10 @@
 An effect counts ("helps beyond noise") only if both hold:
 
 1. the OF falls by more than the margin
-   m = MARGIN u + INPUT_SHARE (floor - floor_F),  u = floor max(1.7 / sqrt(N), 0.02)
+   m = MARGIN u,  u = floor max(1.7 / sqrt(N), 0.02)
    (1.7 / sqrt(N): the relative scatter of the floor estimated from the
    force noise (median of N fourth differences) combined with the scatter
-   of the exact model's OF under the same noise; floor - floor_F the part
-   of the floor the displacement noise makes (``floor.py``), a Monte Carlo
-   estimate around the record's own noisy velocity: on records of known
-   truth the exact model's OF is 1.07-1.32x the floor, so a share of that
-   part is added);
+   of the exact model's OF under the same noise);
 2. the Bayesian information criterion agrees (Laplace errors, whose
    maximum likelihood is set by the mean absolute residual, so the OF):
    dBIC = 2 N_eff ln(OF_with / OF_base) + dk ln(N_eff) < 0,
@@ -18,8 +14,18 @@ An effect counts ("helps beyond noise") only if both hold:
    refitted model's residual: a residual that is still a smooth misfit is
    worth few independent samples, so a small gain does not pass.
 
-And none counts when the model is already at the noise floor
-(OF_base <= floor + m): "nothing left to explain".
+The rule was chosen on the detection curve (benchmarks/bench_detection.py:
+a law-2 device with a seal friction swept from 0.4% to 12% of its peak
+force, and effect-free devices, 10 noise seeds, the paper's one level and
+the five-level acceptance protocol).  The floor itself is not a gate: it
+is an estimate (on effect-free lab records the true model's OF is 0.77 to
+1.07 times it), and a seal friction of 3% of the peak force leaves the base
+within 20% of it while lowering the OF by 22-26%.  Dropping the gate and
+the share of the floor's input part the margin used to add (it now only
+widens what reads "at the floor", ``Judge.band``) found that
+friction in 10 of 10 seeds (before: 0 of 10) with no false suggestion on
+20 effect-free records; "nothing left to explain" is said when no
+candidate passes and the OF is within ``Judge.band`` of the floor.
 
 Beyond the noise test an effect must be on (its refit's OF rises by more
 than the margin when the effect alone is switched off), of a size the
@@ -54,7 +60,10 @@ from .where import effective_samples
 
 #: an effect must lower the OF by more than this many noise-floor uncertainties
 MARGIN = 3.0
-#: ... plus this share of the part of the floor that the input (displacement) noise makes
+#: an OF within the margin plus this share of the floor's input-noise part is
+#: "at the floor" (the part is a Monte Carlo estimate: on records of known
+#: truth the exact model's OF is 0.8-1.3x the floor); it words the verdict
+#: when no candidate passes, it does not gate them
 INPUT_SHARE = 0.4
 
 
@@ -127,13 +136,15 @@ class Judge:
     n: int
     force_floor: float | None = None
     margin: float = field(init=False)
+    band: float = field(init=False)  # how far above the floor an OF still reads "at the floor"
 
     def __post_init__(self):
+        self.margin = MARGIN * floor_uncertainty(self.floor, self.n)
         input_part = 0.0 if self.force_floor is None else max(self.floor - self.force_floor, 0.0)
-        self.margin = MARGIN * floor_uncertainty(self.floor, self.n) + INPUT_SHARE * input_part
+        self.band = self.margin + INPUT_SHARE * input_part
 
     def at_floor(self, of: float) -> bool:
-        return of <= self.floor + self.margin
+        return of <= self.floor + self.band
 
     def verdict(self, of_base: float, of_new: float, dk: int, residual) -> tuple[bool, str, float, float]:
         """(significant, reason, dBIC, N_eff) of going from of_base to of_new with dk more parameters."""
@@ -141,8 +152,6 @@ class Judge:
         dbic = (2.0 * n_eff * math.log(max(of_new, 1e-300) / max(of_base, 1e-300))
                 + dk * math.log(n_eff))
         drop = of_base - of_new
-        if self.at_floor(of_base):
-            return False, "model already at the noise floor", dbic, n_eff
         if drop <= self.margin:
             return (False, f"within noise (OF falls {max(drop, 0.0):.3g}, needs > {self.margin:.3g})",
                     dbic, n_eff)
