@@ -27,7 +27,9 @@ def add_parser(sub):
         description="Fit a model (LAW or LAW+EFFECT+...) to one record (or to the tests of one device "
                     "together: --device), show where it fails (figures and numbers), refit it with every "
                     "effect it lacks and rank them, and compare what is left with the noise floor of the "
-                    "record itself. --ladder adds the best effect and repeats while it helps beyond noise.")
+                    "record itself. An effect that can act as a force offset (a preload, an asymmetry) counts "
+                    "only beyond the tests' force zero: an offset and drift per test, fitted as a nuisance and "
+                    "never exported. --ladder adds the best effect and repeats while it helps beyond noise.")
     p.add_argument("record", metavar="RECORD", nargs="+",
                    help="CSV or .mat test record (with --device: the tests of that device)")
     p.add_argument("--device", metavar="NAME",

@@ -17,7 +17,9 @@ the residual's analysis and the effects' sizes are those of the test the
 base misses most (the focus), and the held-out check leaves one test out
 in turn.  Before effects are ranked, each law parameter is freed per test
 in turn: where one explains most of how the tests disagree, the verdict
-says so first (``agree.py``).  ``per_test``: parameters the base and every
+says so first (``agree.py``).  An effect that can act as a force offset
+(a preload, an asymmetry) is credited only beyond the tests' force zero,
+an offset and drift fitted per test as a nuisance (``zero.py``).  ``per_test``: parameters the base and every
 candidate fit per test (``--per-test``, as calibrate fits them)."""
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, s
 from ..fit.layout import Layout
 from ..records.device import as_device
 from . import where as where_mod
-from . import agree
+from . import agree, zero as zero_mod
 from .floor import input_noise_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
 
@@ -80,6 +82,7 @@ class Diagnosis:
     focus: object = None  # the Record analysed (a device: the test the base misses most)
     per_test: tuple = ()  # parameters fitted per test (--per-test)
     agreement: agree.Agreement | None = None  # do the tests agree with one parameter set (several tests)
+    zero: zero_mod.Zero | None = None  # the tests' force zero, when an offset-like effect needed it (not exported)
     inputs: dict = field(default_factory=dict, repr=False)  # record, seed, settings, catalog: ladder() and accept()
 
     def __repr__(self) -> str:
@@ -226,6 +229,7 @@ class Diagnosis:
             "focus": getattr(self.focus, "name", self.record),
             "per_test": list(self.per_test),
             "agreement": None if self.agreement is None else self.agreement.as_dict(),
+            "force_zero": None if self.zero is None else self.zero.as_dict(),
             "params": self.params(),
             "units": dict(zip(self.fit.names, self.fit.units)),
             "on_bound": [list(x) for x in self.on_bound()],
@@ -249,6 +253,12 @@ class Diagnosis:
         if self.advice is not None:
             return self.agreement.verdict()
         b = self.best
+        if b is None and self.zero is not None and any(not x.significant for x in self.zero.effects):
+            z = self.zero
+            return (f"no candidate effect helps beyond noise (OF {self.of:.4g}, {self.of / self.floor:.1f}x the "
+                    f"noise floor) once the tests' force zero is fitted (not exported; {z.text()}; "
+                    f"OF {z.of_base:.4g} -> {z.of:.4g}): a measurement offset, not device physics; subtract it from "
+                    f"the tests' force before calibrating")
         if b is None and not self.candidates:
             return (f"OF {self.of:.4g} is {self.of / self.floor:.1f}x the noise floor; "
                     f"no candidate effects were refitted")
@@ -339,6 +349,10 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             agreement = agree.check(model, base_fit, device, judge, per_test, say)
     diag.candidates = (assess(found, model, base_fit, device, judge, noise["sigma_d"], focus, per_test)
                        if found else [])
+    if diag.candidates:  # an effect that acts as an offset counts beyond the tests' force zero only
+        with timing.stage("  the tests' force zero"):
+            diag.zero = zero_mod.check(model, base_fit, device, diag.candidates, judge, per_test, say)
+        diag.candidates.sort(key=lambda c: (not c.significant, c.of, c.effect))
     agree.advise(agreement, diag.candidates)
     diag.agreement = agreement
     if parent is True and model.effects and base_fit.parent:  # the nested fit the base started from

@@ -73,6 +73,9 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
                 lines.append(f"  {'':<26}{'':>8}{'':>8}  fitted: {c.size.text}")
             for note in c.on_cap:
                 lines.append(f"  {'':<26}{'':>8}{'':>8}  note: {note}")
+    if diag.zero is not None:
+        lines.append("")
+        lines += diag.zero.lines()
     lines.append("")
     if not diag.at_floor and diag.advice is not None:
         lines.append(f"suggestion: {diag.verdict()}")

@@ -100,7 +100,11 @@ class Effect:
     so that diagnose ranks the two arrangements against each other;
     ``global_search``: a model with it has basins a local solve does not
     always leave (the gap's dead zone), so the default optimizer checks its
-    local optimum with DE (``LocalSettings.always_check``).
+    local optimum with DE (``LocalSettings.always_check``);
+    ``offset_like``: its force can shift the loop as a load cell's zero
+    does (a term that does not vanish at d = 0, v = 0, or whose mean over a
+    cycle is not zero), so diagnose credits it only where it helps beyond
+    the tests' force zero (``diagnose.zero``).
     """
 
     name: str
@@ -125,6 +129,7 @@ class Effect:
     fmu: bool = False
     arrangement_of: str = ""
     global_search: bool = False
+    offset_like: bool = False
     source_sha256: str = ""
 
     @property

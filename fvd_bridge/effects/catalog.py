@@ -206,7 +206,8 @@ BUILTIN = (
         symptom="peak forces differ in tension and compression",
         cause="the two piston sides or valves differ",
         cause_hysteretic="the device is stronger in one direction (clamping or contact conditions differ)",
-        size=sizes.asymmetry, reference=(0.1,), fmu=True, opensees=asymmetric),
+        size=sizes.asymmetry, reference=(0.1,), fmu=True, opensees=asymmetric,
+        offset_like=True),  # F_law + r |F_law|: a mean of r mean|F_law| over a cycle, as an offset has
     Effect(
         name="thermal_softening", stage="output", order=50, function=thermal_force, none=(0.0,),
         slots=("theta",), inside_with=CONNECTIONS,
@@ -243,7 +244,8 @@ BUILTIN = (
         cause="pressurised fluid acts as a spring with a preload",
         cause_hysteretic="the device or its supports carry a static spring (an elastic element beside "
                          "the friction or hysteretic element) and a preload",
-        size=sizes.parallel_spring, reference=(1.0, 3.0), fmu=True, opensees=parallel_spring),
+        size=sizes.parallel_spring, reference=(1.0, 3.0), fmu=True, opensees=parallel_spring,
+        offset_like=True),  # the preload F0: a force at d = 0, v = 0, as a load cell's zero
     Effect(
         name="inertia", stage="parallel", order=80, function=inertia_force, none=(0.0,), slots=("m",),
         parameters=(Parameter("m", "kg", (0.0, 1e4), lambda s: (0.0, 0.5 * s["F"] / _accel(s) * 1e6),

@@ -65,13 +65,27 @@ def friction(values, s) -> Size:
                 plausible=Ff <= 0.3 * F, why="" if Ff <= 0.3 * F else "more than 30% of the peak force")
 
 
+#: a negative parallel stiffness whose force at the peak stroke stays within this share
+#: of the peak force is a stiffness the fit left at about zero, not a negative spring
+NEGATIVE_KP_SHARE = 0.01
+
+
 def parallel_spring(values, s) -> Size:
-    """Kp d and F0 as shares of F: plausible up to 50% and 20%."""
+    """Kp d and F0 as shares of F: plausible up to 50% and 20%.  A negative
+    Kp (beyond NEGATIVE_KP_SHARE of F at the peak stroke) is no damper's
+    property: a gas spring or accumulator pushes back as the rod goes in
+    (Kp > 0), and a force falling with d under one frequency is inertia's
+    -m w^2 d (PHYSICS.md, "Accumulator / gas spring" and "Inertia"); a
+    device built with a negative stiffness is fitted by naming the effect
+    (``--law 2+parallel_stiffness``), which no plausibility rule stops."""
     Kp, F0, F, d = values["Kp"], values["F0"], s["F"], s["d"]
+    text = (f"parallel stiffness {Kp:.3g} kN/mm ({abs(Kp) * d / F:.1%} of the peak force at the peak "
+            f"stroke), preload {F0:.3g} kN ({abs(F0) / F:.1%})")
+    if Kp * d < -NEGATIVE_KP_SHARE * F:
+        return Size(text, plausible=False, why="a negative parallel stiffness (a gas spring pushes back, Kp > 0; "
+                                               "a force falling with d is inertia's -m w^2 d)")
     ok = abs(Kp) * d <= 0.5 * F and abs(F0) <= 0.2 * F
-    return Size(f"parallel stiffness {Kp:.3g} kN/mm ({abs(Kp) * d / F:.1%} of the peak force at the peak "
-                f"stroke), preload {F0:.3g} kN ({abs(F0) / F:.1%})", plausible=ok,
-                why="" if ok else "spring or preload too large for the device")
+    return Size(text, plausible=ok, why="" if ok else "spring or preload too large for the device")
 
 
 def inertia(values, s) -> Size:

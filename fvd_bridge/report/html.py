@@ -40,4 +40,14 @@ def diagnosis_table(diag) -> str:
              c.size.text if c.size else "", c.reason] for c in diag.candidates]
     caption = f"{diag.spec} on {diag.record}: OF {diag.of:.5g}, noise floor {diag.floor:.4g}"
     return (f"<p>{escape(diag.verdict())}</p>"
-            + table(["effect", "OF", "lower by", "credited", "size", "why not"], rows, caption))
+            + table(["effect", "OF", "lower by", "credited", "size", "why not"], rows, caption)
+            + ("" if diag.zero is None else zero_table(diag.zero.as_dict())))
+
+
+def zero_table(zero: dict) -> str:
+    """The tests' force zero of a diagnosis (``Zero.as_dict``): one row per test."""
+    rows = [[name, f"{z['F0_kN']:+.3g}", f"{z['F1_kN_per_s']:+.2g}",
+             "-" if z["at_rest_kN"] is None else f"{z['at_rest_kN']:+.3g}"] for name, z in zero["tests"].items()]
+    return table(["test", "offset F0 [kN]", "drift F1 [kN/s]", "force at rest [kN]"], rows,
+                 f"the tests' force zero (a measurement nuisance, not exported): OF {zero['of_base']:.4g} -> "
+                 f"{zero['of']:.4g} with it")

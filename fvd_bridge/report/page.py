@@ -32,7 +32,7 @@ from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
-from .html import calibration_table, short, table
+from .html import calibration_table, short, table, zero_table
 
 STYLE = """body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
 table.fvd{border-collapse:collapse;margin:.6em 0 1.2em}table.fvd td,table.fvd th{border:1px solid #ccc;
@@ -270,6 +270,7 @@ def _diagnosis_sections(out: str) -> str:
                   f"<p>{escape(rep.get('verdict', ''))}</p>",
                   table(["effect", "OF", "lower by", "credited", "why not"], rows,
                         f"OF {rep['of']:.5g}, noise floor {rep['noise_floor_of']:.4g}"),
+                  *([zero_table(rep["force_zero"])] if rep.get("force_zero") else []),
                   *[_image(p, os.path.basename(p)) for p in figs], "</section>"]
     return "\n".join(parts)
 
