@@ -158,7 +158,7 @@ def _next_lines(args, diag, paths: dict) -> list:
     exports there, else to an FMU), and diagnose it further on the same
     record read the same way (with the same --per-test)."""
     best = diag.best
-    advice = diag.advice if not diag.at_floor else None
+    advice = diag.advice
     if advice is None and (best is None or best.spec not in paths):
         return []
     reading = [f"--{name.replace('_', '-')} {shlex.quote(str(getattr(args, name)))}"

@@ -247,9 +247,9 @@ class Diagnosis:
             Nothing left to explain, the parameter the tests disagree on,
             the effect to add, or why none helps.
         """
-        if self.at_floor:
+        if self.at_floor and self.best is None and self.advice is None:
             return (f"nothing left to explain: OF {self.of:.4g} is at the noise floor {self.floor:.4g} "
-                    f"(within {self.judge.margin:.2g})")
+                    f"(within {self.judge.band:.2g})")
         if self.advice is not None:
             return self.agreement.verdict()
         b = self.best

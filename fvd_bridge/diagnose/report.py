@@ -77,13 +77,13 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
         lines.append("")
         lines += diag.zero.lines()
     lines.append("")
-    if not diag.at_floor and diag.advice is not None:
+    if diag.advice is not None:
         lines.append(f"suggestion: {diag.verdict()}")
         flags = " ".join(f"--per-test {n}" for n in (*diag.per_test, diag.advice.name))
         for line in next_lines or [f"fvd-bridge diagnose {record_label or 'RECORD'} --device {diag.record} "
                                    f"--law {diag.spec} {flags}"]:
             lines.append(f"next: {line}")
-    elif diag.at_floor or diag.best is None:
+    elif diag.best is None:
         lines.append(diag.verdict())
     else:
         for k, c in enumerate(diag.suggestions[:EXPLAIN_TOP]):
