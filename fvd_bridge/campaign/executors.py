@@ -155,14 +155,31 @@ class Dask:
                                dashboard_address=None, silence_logs=logging.ERROR)
         return Client(cluster)
 
+    def _client_holding_sigterm(self):
+        """(client, deliver): the client, with SIGTERM held while its cluster
+        starts (a cluster cut off in its start-up cannot be torn down: its
+        exit-time teardown fails on workers still starting); ``deliver()``
+        raises a held SIGTERM once the caller can tear the cluster down."""
+        held = []
+        try:
+            previous = signal.signal(signal.SIGTERM, lambda signum, frame: held.append(signum))
+        except ValueError:  # not the main thread: signals go elsewhere
+            return self.client(), lambda: None
+        try:
+            client = self.client()
+        finally:
+            signal.signal(signal.SIGTERM, previous)
+        return client, lambda: held and signal.raise_signal(signal.SIGTERM)
+
     def run(self, fn, items):
         from distributed import as_completed  # lazily: dask only
 
         items = list(items)
         if not items:
             return
-        client = self.client()
+        client, deliver = self._client_holding_sigterm()
         try:
+            deliver()
             shared = {}  # id(object) -> future of the object sent once (records, settings)
             futures = {}
             for item in items:
@@ -177,6 +194,10 @@ class Dask:
                 futures[client.submit(_one_thread, fn, item[0], *args, pure=False)] = item
             for fut in as_completed(futures):
                 yield futures.pop(fut), fut.result()
+        except BaseException:  # stopped (SIGTERM, Ctrl-C, a failed task): the one line is the CLI's
+            for name in ("distributed", "tornado", "asyncio"):  # the cluster's teardown logs tracebacks of
+                logging.getLogger(name).setLevel(logging.CRITICAL + 1)  # callbacks it cut short
+            raise
         finally:
             cluster = getattr(client, "cluster", None)
             client.close()
