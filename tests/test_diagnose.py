@@ -63,6 +63,8 @@ def test_ladder_finds_two_planted_effects_and_stops(protocol, lab_dir):
     ofs = [r.of for r in lad.rungs]
     assert ofs == sorted(ofs, reverse=True) and all(r.improvement > 0.2 for r in lad.rungs[1:])
     assert ofs[-1] <= 2.0 * lad.final.floor
+    # the floor is the record's: every rung is judged against the first rung's
+    assert len({d.floor for d in lad.diagnoses}) == 1
     p = lad.rungs[-1].params
     assert p["friction.Ff"] == pytest.approx(60.0, rel=0.1)
     assert p["thermal_softening.theta"] == pytest.approx(3.0, rel=0.2)
@@ -299,3 +301,24 @@ def test_api_diagnose_per_test_and_the_ladder(disagreeing_tests):
     assert "C@dev_b" in lad.rungs[0].params
     with pytest.raises(fb.InputError, match="per_test"):
         fb.diagnose(records, "2", device="dev", per_test=["K"])
+
+
+def test_the_floor_is_the_records_and_what_the_true_model_reaches(protocol, lab_dir):
+    """The floor through the fitted law (effects off) estimates the OF the
+    true law reaches on the record (its noise alone), and a model with an
+    effect gets the same floor: a gap's refit does not move it.  The truth:
+    law 2 at the rig's C and alpha on the record, which carries 1 kN force
+    and 0.005 mm displacement noise; the floor's 4 Monte Carlo draws and the
+    one record's noise make it accurate to about 10%."""
+    from fvd_bridge.diagnose.floor import record_floor
+    from fvd_bridge.fit import evaluate_params
+
+    rec = rig_record(protocol, lab_dir, "floor", seed=5)
+    law2 = catalog().model("2")
+    truth_of = evaluate_params(law2, rec, [C, ALPHA])
+    fitted = fit_model(law2, rec, seed=0)
+    floor = record_floor(law2, fitted.params, rec)["floor"]
+    assert 0.8 * truth_of < floor < 1.25 * truth_of
+    gap = catalog().model("2+gap")
+    with_gap = fit_model(gap, rec, seed=0)
+    assert record_floor(gap, with_gap.params, rec)["floor"] == pytest.approx(floor, rel=0.02)

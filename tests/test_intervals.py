@@ -160,3 +160,33 @@ def test_the_bootstraps_differentiator_is_savgol_filter_at_each_samples_window()
             ref[:, window == w] = _savgol(D, int(w), 3, deriv, 0.002)[:, window == w]
         got = with_windows(D, 0.002, window, 3, deriv)
         assert np.max(np.abs(got - ref)) <= 1e-9 * np.max(np.abs(ref))  # two sums of the same products
+
+
+@pytest.mark.parametrize("law", ["2", "9"])
+def test_the_replicates_newton_steps_reach_their_own_refits(tmp_path, law):
+    """A second algorithm: the k-step bootstrap's Newton steps on each
+    replicate (``newton_refits``) against that replicate's full local refit
+    (``polish_model``, eq. 18's L1 by the soft-L1 continuation), 20
+    replicates of a ramped lab record fitted with law 2 and law 9.  The two
+    estimators differ by the soft-L1 scale (5% of the force noise) and the
+    stopping rules (the steps' STEP_TOL of the spread, the refit's
+    L1_TOLERANCE), each a small share of the replicates' spread: their means
+    agree within a quarter of it and their spreads within 25%."""
+    from fvd_bridge.fit.api import polish_model
+    from fvd_bridge.fit.intervals import _replicates, newton_refits, smoothed
+    from fvd_bridge.fit.layout import Layout
+    from fvd_bridge.records.cycles import force_noise
+
+    rec = ramped_record(3, tmp_path)
+    model = catalog().model(law)
+    fit = fit_model(model, rec, seed=0)
+    clean = smoothed(rec)
+    F_clean = model.force(clean, fit.params[None, :])[0]
+    replicas = _replicates(rec, F_clean, clean, force_noise(rec.F), 20, np.random.default_rng(5))
+    newton, _ = newton_refits(model, Layout(model, (rec.name,)), replicas, fit.params, [force_noise(rec.F)],
+                              fit.bounds)
+    refits = np.array([polish_model(model, r, fit.params)[0] for r in replicas])
+    spread = refits.std(axis=0, ddof=1)
+    assert np.all(np.abs(newton.mean(axis=0) - refits.mean(axis=0)) < 0.25 * spread)
+    assert np.all(np.abs(newton.std(axis=0, ddof=1) / spread - 1.0) < 0.25)
+    assert np.all(np.abs(refits.mean(axis=0) - fit.params) > 0.5 * spread)  # the bias the steps must follow

@@ -37,7 +37,7 @@ from ..fit.layout import Layout
 from ..records.device import as_device
 from . import where as where_mod
 from . import agree, zero as zero_mod
-from .floor import input_noise_floor
+from .floor import record_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
 
 #: rounds of "a refit found a lower base: polish the base, refit again"
@@ -278,7 +278,7 @@ class Diagnosis:
 
 
 def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,
-             progress=None, parent=True, catalog=None, per_test=()) -> Diagnosis:
+             progress=None, parent=True, catalog=None, per_test=(), floors=None) -> Diagnosis:
     """Fit ``model`` (a Model, or a spec resolved by ``catalog``, default the
     built-in one) to ``record``, or converge ``base_fit`` further (DE from it),
     analyse the residual, and refit with every effect of the catalog not in
@@ -287,7 +287,9 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     ``parent``: for a model with effects, how far the error fell from the
     model without its last effect: True fits that model too, a (spec, OF)
     pair is taken as given, None skips it.  ``progress(message)`` receives
-    one line per fit.  ``per_test``: parameters fitted per test (a Device)."""
+    one line per fit.  ``per_test``: parameters fitted per test (a Device).
+    ``floors``: per test, its noise floor (``floor.record_floor``) when an
+    earlier diagnosis of the same record computed it."""
     t0 = time.perf_counter()
     settings = settings or diagnose_settings()
     catalog = catalog or default_catalog()
@@ -333,8 +335,8 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     k_focus = int(np.argmax(test_of))
     focus = device.tests[k_focus]
     F_model = model.force(focus, split[k_focus][None, :])[0]
-    with timing.stage("  input-noise floor"):
-        noises = [input_noise_floor(model, p, t, seed) for t, p in zip(device.tests, split)]
+    with timing.stage("  input-noise floor"):  # the records', computed once for every rung of a ladder
+        noises = floors or [record_floor(model, p, t, seed) for t, p in zip(device.tests, split)]
     noise = dict(noises[k_focus])
     noise["floor"] = float(np.dot(device.weights, [n["floor"] for n in noises]))
     noise["force_floor"] = float(np.dot(device.weights, [n["force_floor"] for n in noises]))
@@ -365,5 +367,5 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
     diag.parent = parent if isinstance(parent, tuple) else None
     diag.wall_s = time.perf_counter() - t0
-    diag.inputs = {"record": record, "seed": seed, "settings": settings, "catalog": catalog}
+    diag.inputs = {"record": record, "seed": seed, "settings": settings, "catalog": catalog, "floors": noises}
     return diag

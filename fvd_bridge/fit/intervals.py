@@ -19,8 +19,21 @@ truth:
 
 (sigma_d, sigma_F the record's own noise estimates, e white Gaussian; a
 measured velocity column is kept, with force noise only), and the fit is
-repeated from theta on each replicate (``polish_model``: the local least
-squares on eq. 18).  With theta_b the replicates' estimates:
+repeated from theta on each replicate by Newton steps on its M-estimator
+(the k-step bootstrap: Davidson & MacKinnon 1999, Andrews 2002): with e_i
+the replicate's weighted residuals of eq. 18 at theta_b (from theta), g_i
+their parameter gradients (forward differences on the replicate's own
+motion), psi the soft-L1 derivative at the scale s_i = SOFT_SHARE of the
+force noise (eq. 18's L1 but within the noise's smallest 5%),
+
+    theta_b <- theta_b - H^-1 sum psi(e_i/s_i) g_i,   H = sum psi'(e_i/s_i)/s_i g_i g_i^T
+
+each step halved until the cost falls, until a step moves no parameter by
+more than STEP_TOL of its standard error (at most NEWTON_STEPS).  The steps reach the replicates'
+own refits (``polish_model``) to 0.15 of their spread and cost a fifth of
+them (benchmarks/bench_coverage.py; ``tests/test_intervals.py``); a
+replicate whose step fails (a singular H, a force that is not finite) is
+refitted by ``polish_model``.  With theta_b the replicates' estimates:
 
     bias = mean(theta_b) - theta,  stderr = sqrt(std(theta_b)^2 + (BIAS_SHARE bias)^2),
     95% interval = theta - bias -/+ 1.96 stderr
@@ -50,7 +63,7 @@ from ..records.cycles import force_noise
 from ..records.device import as_device
 from ..records.record import Record
 from ..records.velocity import _savgol, derive_with_windows, rederive, rest_mask, runs
-from .api import evaluate_params, polish_model
+from .api import joint_residuals, polish_model, residual_weights
 from .layout import Layout
 
 #: bootstrap replicates of a calibration
@@ -62,6 +75,14 @@ REPLICATES = 20
 BIAS_SHARE = 1.0
 #: an OF beyond this multiple of the noise's marks a misfit the intervals do not count
 MISFIT = 1.5
+#: the soft-L1 scale of the replicates' Newton steps, a share of the force noise
+SOFT_SHARE = 0.05
+#: the Newton steps settle when no parameter moves by more than this share of its standard error
+STEP_TOL = 0.05
+#: at most this many Newton steps per replicate (and as many halvings), then its full refit
+NEWTON_STEPS = 8
+#: forward-difference step of the replicates' gradients, a share of each parameter
+FD_SHARE = 1e-6
 #: two-sided 95% normal quantile
 Z95 = 1.959964
 
@@ -108,8 +129,12 @@ def smoothed(record) -> Record:
     return Record(record.t, d, record.F, v, a, record.name)
 
 
-def _replicates(record, F_clean: np.ndarray, d_smooth: np.ndarray, sigma_F: float, count: int, rng) -> list:
-    """``count`` lab-like replicates of ``record`` (module docstring), one batch."""
+def _replicates(record, F_clean: np.ndarray, clean: Record, sigma_F: float, count: int, rng,
+                acceleration: bool = True) -> list:
+    """``count`` lab-like replicates of ``record`` (module docstring), one
+    batch; without ``acceleration`` (a model that does not read it: a bare
+    law) each keeps ``clean``'s (the smoothed record's)."""
+    d_smooth = clean.d
     F = F_clean + sigma_F * rng.standard_normal((count, record.n))
     if not record.d_noise or str((record.provenance.get("velocity") or {}).get("method")) != "savgol":
         return [Record(record.t, record.d, f, record.v, record.a, record.name) for f in F]  # force noise only
@@ -117,7 +142,8 @@ def _replicates(record, F_clean: np.ndarray, d_smooth: np.ndarray, sigma_F: floa
     if record.windows is None:  # a record built in code: its differentiator chooses again
         return [Record(record.t, d, f, *rederive(record, d), record.name) for d, f in zip(D, F)]
     V, A = derive_with_windows(D, record.dt, record.windows, record.provenance["velocity"].get("polyorder", 3),
-                               record.v_noise)
+                               record.v_noise, acceleration=acceleration)
+    A = [clean.a] * count if A is None else A
     return [Record(record.t, d, f, v, a, record.name) for d, f, v, a in zip(D, F, V, A)]
 
 
@@ -136,22 +162,92 @@ def intervals(model, record, params, per_test=(), bounds=None, replicates: int =
     for k, test in enumerate(device.tests):
         clean = smoothed(test)
         F_clean = model.force(clean, layout.for_test(params[None, :], k))[0]
-        per_test_reps.append(_replicates(test, F_clean, clean.d, force_noise(test.F), count, rng))
-    estimates, noise_ofs = [], []
-    for b in range(count):
-        rep = type(device)(device.name, [reps[b] for reps in per_test_reps], device.weights)
-        est, _ = polish_model(model, rep, params, per_test=per_test)
-        estimates.append(est)
-        noise_ofs.append(evaluate_params(model, rep, params, per_test=per_test))
-        if progress:
-            progress(b + 1)
-    out = summarize(model, layout, params, np.array(estimates), bounds)
-    out.noise_of = float(np.mean(noise_ofs))
+        per_test_reps.append(_replicates(test, F_clean, clean, force_noise(test.F), count, rng,
+                                         acceleration=bool(model.effects)))
+    noise = [force_noise(test.F) for test in device.tests]
+    replicas = [type(device)(device.name, [reps[b] for reps in per_test_reps], device.weights)
+                for b in range(count)]
+    estimates, noise_of = newton_refits(model, layout, replicas, params, noise, bounds, progress)
+    out = summarize(model, layout, params, estimates, bounds)
+    out.noise_of = noise_of
     if of is not None and of > MISFIT * out.noise_of:
         out.note = (f"OF {of:.4g} is {of / out.noise_of:.1f}x what the noise alone gives ({out.noise_of:.4g}): "
                     f"the model misses the record, and these intervals count the noise only, not the misfit "
                     f"(fvd-bridge diagnose shows what is missing)")
     return out
+
+
+def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list, bounds=None,
+                  progress=None) -> tuple[np.ndarray, float]:
+    """Each replica's (a Record or Device) estimate (B, n) by Newton steps
+    from ``params`` (module docstring), and the mean OF of ``params`` on the
+    replicas: what the noise alone gives.  ``noise``: per test, its force
+    noise [kN]."""
+    replicas = [as_device(r) for r in replicas]
+    estimates = np.repeat(np.asarray(params, dtype=float)[None, :], len(replicas), axis=0)
+    ofs = np.zeros(len(replicas))
+    for b, replica in enumerate(replicas):
+        settled, ofs[b] = _newton(model, layout, replica, params, noise, bounds)
+        estimates[b] = (settled if settled is not None
+                        else polish_model(model, replica, params, per_test=layout.per_test)[0])
+        if progress:
+            progress(b + 1)
+    return estimates, float(np.mean(ofs))
+
+
+def _newton(model, layout, replica, params: np.ndarray, noise: list, bounds=None):
+    """(estimate or None, OF of ``params``) of one replica: Newton steps on
+    the soft-L1 cost from ``params``, each step halved until the cost falls,
+    settled when a step moves each parameter by at most STEP_TOL of its
+    standard error (the sandwich H^-1 B H^-1 at that point); None when the
+    steps do not settle or the force is not finite there."""
+    n = params.size
+    lower, upper = (np.asarray(bounds, dtype=float).T if bounds is not None
+                    else (np.full(n, -np.inf), np.full(n, np.inf)))
+    h = FD_SHARE * np.maximum(np.abs(params), 1e-9)
+    weights = residual_weights(replica)
+    scale = np.concatenate([SOFT_SHARE * s * np.abs(c) for s, c in zip(noise, weights) if c is not None])
+    x, of0 = np.asarray(params, dtype=float), None
+    last_x, last_cost, step = x, np.inf, np.zeros(n)
+    for _ in range(2 * NEWTON_STEPS):
+        R = joint_residuals(model, replica, layout, np.vstack([x, x + np.diag(h)]), weights=weights)
+        if not np.isfinite(R).all():
+            return None, of0 if of0 is not None else np.inf
+        if of0 is None:
+            of0 = float(np.abs(R[0]).sum())
+        cost = float((scale * (np.sqrt(1.0 + (R[0] / scale) ** 2) - 1.0)).sum())
+        if cost > last_cost:  # overshot: half the step back
+            step = 0.5 * step
+            x = np.clip(last_x + step, lower, upper)
+            continue
+        last_x, last_cost = x, cost
+        newton = _newton_step(R[0], (R[1:] - R[0]) / h[:, None], scale)
+        if newton is None:
+            return None, of0
+        step, stderr = newton
+        if np.all(np.abs(step) <= STEP_TOL * stderr):
+            return np.clip(x + step, lower, upper), of0
+        x = np.clip(x + step, lower, upper)
+    return None, of0
+
+
+def _newton_step(e: np.ndarray, G: np.ndarray, scale: np.ndarray):
+    """(step (n,), standard errors (n,)) of the soft-L1 cost sum s (sqrt(1 +
+    (e/s)^2) - 1) of residuals e (m,) with gradients G (n, m) at scales s
+    (m,): the Newton step -H^-1 g and the sandwich H^-1 B H^-1's diagonal;
+    None where H is singular."""
+    u = e / scale
+    root = np.sqrt(1.0 + u * u)
+    slope = u / root  # the cost's derivative in e: sign(e) beyond the scale
+    H = (G * (1.0 / (root ** 3 * scale))) @ G.T
+    B = (G * slope ** 2) @ G.T
+    try:
+        Hinv = np.linalg.inv(H)
+    except np.linalg.LinAlgError:
+        return None
+    step = -Hinv @ (G @ slope)
+    stderr = np.sqrt(np.abs(np.diag(Hinv @ B @ Hinv)))
+    return (step, stderr) if np.isfinite(step).all() and np.isfinite(stderr).all() else None
 
 
 def summarize(model, layout, params: np.ndarray, estimates: np.ndarray, bounds=None) -> Intervals:

@@ -256,17 +256,20 @@ def derive(d: np.ndarray, dt: float, window: int | None = None, polyorder: int =
 
 
 def derive_with_windows(D: np.ndarray, dt: float, windows: tuple, polyorder: int, v_noise: np.ndarray,
-                        gamma: float = GAMMA) -> tuple[np.ndarray, np.ndarray]:
+                        gamma: float = GAMMA, acceleration: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
     """V [mm/s] and A [mm/s^2] of displacements D [mm] (rows: records of one
     grid) with the windows [samples] a record's derivation chose at each
     sample, ``windows`` = (v_window, a_window), and its rests found in each
     row (v_noise [mm/s]: that derivation's per-sample noise).  The bootstrap's
-    differentiator (``fit.intervals``): the same linear filters, one batch."""
+    differentiator (``fit.intervals``): the same linear filters, one batch.
+    A is None without ``acceleration`` (a model that does not read it)."""
     V = with_windows(D, dt, windows[0], polyorder, 1)
-    A = with_windows(D, dt, windows[1], max(polyorder, 2), 2)
+    A = with_windows(D, dt, windows[1], max(polyorder, 2), 2) if acceleration else None
     for row in range(V.shape[0]):
         still = rests(V[row], v_noise, dt, gamma)
-        V[row, still], A[row, still] = 0.0, 0.0
+        V[row, still] = 0.0
+        if A is not None:
+            A[row, still] = 0.0
     return V, A
 
 
