@@ -28,11 +28,13 @@ force noise (eq. 18's L1 but within the noise's smallest 5%),
 
     theta_b <- theta_b - H^-1 sum psi(e_i/s_i) g_i,   H = sum psi'(e_i/s_i)/s_i g_i g_i^T
 
-each step halved until the cost falls, until a step moves no parameter by
-more than STEP_TOL of its standard error (at most NEWTON_STEPS).  The steps reach the replicates'
-own refits (``polish_model``) to 0.15 of their spread and cost a fifth of
-them (benchmarks/bench_coverage.py; ``tests/test_intervals.py``); a
-replicate whose step fails (a singular H, a force that is not finite) is
+each step halved until the cost falls, until a step (taken, the last)
+moves no parameter by more than STEP_TOL of its standard error (the
+sandwich H^-1 B H^-1; at most NEWTON_STEPS).  On lab-like law-2 and law-9
+records (1,757 and 9,439 samples) 2-4 evaluations a replicate reach the
+replicates' own full refits (``polish_model``) to 0.04 of their spread,
+at a third of their cost (``tests/test_intervals.py``); a replicate whose
+steps do not settle (a singular H, a force that is not finite) is
 refitted by ``polish_model``.  With theta_b the replicates' estimates:
 
     bias = mean(theta_b) - theta,  stderr = sqrt(std(theta_b)^2 + (BIAS_SHARE bias)^2),
@@ -78,7 +80,7 @@ MISFIT = 1.5
 #: the soft-L1 scale of the replicates' Newton steps, a share of the force noise
 SOFT_SHARE = 0.05
 #: the Newton steps settle when no parameter moves by more than this share of its standard error
-STEP_TOL = 0.05
+STEP_TOL = 0.25
 #: at most this many Newton steps per replicate (and as many halvings), then its full refit
 NEWTON_STEPS = 8
 #: forward-difference step of the replicates' gradients, a share of each parameter
