@@ -14,6 +14,10 @@ The notebook API (``fvd_bridge.api``)::
 
 __version__ = "0.3.0"
 
+from .kernel_cache import configure as _configure_kernel_cache  # noqa: E402
+
+_configure_kernel_cache()  # one cache of the compiled kernels, before any is compiled
+
 from .api import calibrate, diagnose  # noqa: E402
 from .calibration import Calibration, FittedParameter  # noqa: E402
 from .catalog import parse_model  # noqa: E402

@@ -19,11 +19,15 @@ import warnings
 # figures are written to files, never shown: matplotlib's file backend unless the user chose one
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from . import __version__, timing  # noqa: E402
+from . import __version__, kernel_cache, timing  # noqa: E402
 from .errors import InputError  # noqa: E402
 
 VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",
          "report", "demo")
+
+
+#: the verbs that run the compiled kernels (their first run compiles them)
+COMPILING = ("rig", "calibrate", "campaign", "diagnose", "compare", "export", "frame", "report", "demo")
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
@@ -70,6 +74,8 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     warnings.showwarning = _show_warning
+    if verb in COMPILING:
+        kernel_cache.announce(lambda text: print(f"fvd-bridge: {text}", file=sys.stderr, flush=True))
     previous = _on_sigterm()
     timing.reset()
     t0 = time.perf_counter()

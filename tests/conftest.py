@@ -62,7 +62,6 @@ def write_csv(tmp_path):
 def cli_env() -> dict:
     """Environment for running the CLI in a subprocess."""
     env = dict(os.environ)
-    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".numba_cache"))
     env.setdefault("MPLBACKEND", "Agg")
     return env
 

@@ -1,0 +1,82 @@
+"""One cache of the compiled numerical kernels, and a word when it is cold.
+
+The laws' and effects' kernels are compiled by numba on first use and
+cached on disk (``cache=True``).  Without a setting numba caches beside the
+package's sources, so `make demo`, the tests and a direct `fvd-bridge` call
+could each compile again.  ``configure`` points every entry point at one
+folder, ``NUMBA_CACHE_DIR`` if the user set it, else the user's cache
+folder (``$XDG_CACHE_HOME/fvd_bridge/numba``, ``~/.cache/...``), before any
+kernel is compiled; ``cold`` says whether nothing is cached there yet, so
+the command line can say why its first run is slow.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+#: a kernel every calibration compiles: its cache index marks a warm cache
+MARKER = "algebraic.*.nbi"
+
+
+def cache_dir() -> Path:
+    """The folder of the compiled kernels."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "fvd_bridge" / "numba"
+
+
+def configure() -> None:
+    """Point numba at ``cache_dir()``, unless NUMBA_CACHE_DIR is set or the
+    folder cannot be made (then numba's own default stays)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return
+    path = cache_dir()
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return
+    os.environ["NUMBA_CACHE_DIR"] = str(path)
+    if "numba" in sys.modules:  # imported before us: its config has read the environment already
+        from numba.core import config
+
+        config.CACHE_DIR = str(path)
+
+
+def cold() -> bool:
+    """True when no kernel is cached yet: the first run compiles them."""
+    path = cache_dir()
+    return not (path.is_dir() and any(path.rglob(MARKER)))
+
+
+NOTICE = "compiling the numerical kernels (after an install or an update, once: 1-3 minutes; cached in {})"
+
+
+def announce(say):
+    """Call ``say(NOTICE)`` once: now if the cache is cold (the kernels may
+    compile in worker processes), else at the first kernel numba actually
+    compiles (a cache made stale by an update; numba's ``numba:compile``
+    event fires on a cache miss only).  Returns the listener, if any."""
+    from numba.core import event
+
+    text = NOTICE.format(cache_dir())
+    if cold():
+        say(text)
+        return None
+
+    class _Once(event.Listener):
+        said = False
+
+        def on_start(self, ev):
+            if not self.said:
+                self.said = True
+                say(text)
+
+        def on_end(self, ev):
+            pass
+
+    listener = _Once()
+    event.register("numba:compile", listener)
+    return listener
