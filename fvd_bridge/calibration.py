@@ -49,7 +49,7 @@ import yaml
 
 from . import __version__
 from .catalog import catalog_for, plugin_files, recorded_plugins
-from .errors import InputError
+from .errors import InputError, option
 from .fit.layout import SEP, Layout
 from .fit.objective import objective
 from .io.staging import atomic_file
@@ -434,7 +434,7 @@ class Calibration:
             return self.values
         names = [t["name"] for t in self.tests]
         if test not in names:
-            raise InputError(f"--test {test}: the calibration has tests {', '.join(names)}")
+            raise InputError(f"{option('--test', test)}: the calibration has tests {', '.join(names)}")
         values = {**dict(zip(self.model.names, self.values)), **(self.tests[names.index(test)].get("parameters") or {})}
         return np.array([values[n] for n in self.model.names], dtype=float)
 

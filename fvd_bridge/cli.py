@@ -20,7 +20,7 @@ import warnings
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 from . import __version__, kernel_cache, timing  # noqa: E402
-from .errors import InputError  # noqa: E402
+from .errors import InputError, command_line_words  # noqa: E402
 
 VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",
          "report", "demo")
@@ -60,6 +60,12 @@ def verb_first(argv: list) -> tuple[str | None, list]:
 
 
 def main(argv=None) -> int:
+    """Run one verb; its messages name command-line options."""
+    with command_line_words():
+        return _main(argv)
+
+
+def _main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     verb, argv = verb_first(argv)
     if verb is None:

@@ -1,12 +1,55 @@
-"""The one exception a user can cause: bad input, reported in one line."""
+"""The one exception a user can cause: bad input, reported in one line,
+in the words of whoever called: a command-line option on the command
+line, the Python argument that means the same in Python (``option``)."""
 
+import contextlib
+import contextvars
 import math
 
+#: "api" (the default: the package is called from Python) or "cli" (``fvd_bridge.cli`` sets it)
+_WORDS = contextvars.ContextVar("fvd_bridge_words", default="api")
 
-class InputError(Exception):
-    """Bad user input; the message names the file, row, column or parameter.
+#: each command-line option and the Python argument that means the same ({v}: its value)
+API_ARGUMENT = {
+    "--plugin": "plugins=[{v!r}]",
+    "--bounds": "bounds={v!r}",
+    "--optimizer": "optimizer={v!r}",
+    "--per-test": "per_test=[{v!r}]",
+    "--test": "test={v!r}",
+    "--runs": "runs={v}",
+    "--dt": "dt={v}",
+    "--sg-window": "sg_window={v}",
+    "--sg-order": "sg_order={v}",
+    "--force-sign": "force_sign={v!r}",
+    "--devices": "devices={v!r}",
+    "--protocol": "protocol={v!r}",
+    "--laws": "laws={v!r}",
+}
 
-    The CLI prints ``fvd-bridge: <message>`` and exits with code 2.
+
+def option(flag: str, value=None) -> str:
+    """``flag`` with ``value`` as its reader gave it: '--plugin x.py' on the
+    command line, "plugins=['x.py']" from Python (``API_ARGUMENT``)."""
+    template = API_ARGUMENT.get(flag) if _WORDS.get() == "api" else None
+    if template is None:
+        return flag if value is None else f"{flag} {value}"
+    return template.format(v=value)
+
+
+@contextlib.contextmanager
+def command_line_words():
+    """Within: messages name command-line options (``fvd_bridge.cli``)."""
+    token = _WORDS.set("cli")
+    try:
+        yield
+    finally:
+        _WORDS.reset(token)
+
+
+class InputError(ValueError):
+    """Bad user input; the message names the file, row, column or parameter
+    (in the caller's words, ``option``).  A ValueError, which Python callers
+    catch; the CLI prints ``fvd-bridge: <message>`` and exits with code 2.
     """
 
 

@@ -115,3 +115,27 @@ def test_dir_shows_the_public_api():
     assert {"calibrate", "diagnose", "Record", "Calibration", "Diagnosis", "read_record"} <= set(names)
     assert not [n for n in names if n.startswith("_") and n != "__version__"]
     assert callable(fb.diagnose)
+
+
+def test_errors_are_value_errors_in_the_callers_words(tmp_path):
+    """From Python a bad argument raises a ValueError naming the Python
+    argument; the command line names its option for the same mistake."""
+    import subprocess
+
+    from conftest import CLI, cli_env
+
+    t = np.arange(0.0, 2.0, 0.01)
+    rec = fb.Record.from_arrays(t, 10.0 * np.sin(6.0 * t), 5.0 * np.cos(6.0 * t))
+    with pytest.raises(ValueError, match=r"^plugins=\['nope\.py'\]: no such file"):
+        fb.calibrate(rec, "2", intervals=0, plugins=["nope.py"])
+    with pytest.raises(ValueError, match=r"^bounds='papr': expected one of auto, paper"):
+        fb.calibrate(rec, "2", intervals=0, bounds="papr")
+    cal = fb.calibrate(rec, "2", intervals=0)
+    with pytest.raises(ValueError, match=r"^test='x': the calibration has tests"):
+        cal.params_for("x")
+    path = tmp_path / "r.csv"
+    np.savetxt(path, np.column_stack([t, 10.0 * np.sin(6.0 * t), 5.0 * np.cos(6.0 * t)]), delimiter=",",
+               header="t,d,F", comments="")
+    out = subprocess.run([*CLI, "calibrate", str(path), "--laws", "2", "--plugin", "nope.py", "--out",
+                          str(tmp_path / "o")], capture_output=True, text=True, env=cli_env())
+    assert out.returncode == 2 and out.stderr.strip().endswith("--plugin nope.py: no such file"), out.stderr

@@ -176,8 +176,7 @@ def campaign_settings(args) -> CampaignSettings:
         if spec and spec not in specs:
             raise InputError(f"{given}: law {spec} is not among --laws {args.laws}")
         if not any(name in cat.model(t).names for t in targets):
-            raise InputError(f"{given}: {'model ' + spec if spec else 'no model'} has no parameter "
-                             f"'{name}' (has: {', '.join(cat.model(targets[0]).names)})")
+            raise InputError(f"{given}: {_none_has(name, targets, cat)}")
     per_test = tuple(parse_per_test(text, specs, cat) for text in args.per_test)
     start = None
     if args.start:
@@ -201,9 +200,17 @@ def parse_per_test(text: str, specs, catalog) -> tuple:
         raise InputError(f"--per-test {text}: law {spec} is not among the models ({', '.join(specs)})")
     targets = [spec] if spec else list(specs)
     if not name or not any(name in catalog.model(t).names for t in targets):
-        raise InputError(f"--per-test {text}: {'model ' + spec if spec else 'no model'} has no parameter "
-                         f"'{name}' (has: {', '.join(catalog.model(targets[0]).names)})")
+        raise InputError(f"--per-test {text}: {_none_has(name, targets, catalog)}")
     return (spec, name)
+
+
+def _none_has(name: str, specs: list, catalog) -> str:
+    """'model 9 has no parameter ...' (one model) or 'none of the models 2, 9
+    has a parameter ...', with the parameters they have."""
+    if len(specs) == 1:
+        return f"model {specs[0]} has no parameter '{name}' (has: {', '.join(catalog.model(specs[0]).names)})"
+    have = "; ".join(f"{s}: {', '.join(catalog.model(s).names)}" for s in specs)
+    return f"none of the models {', '.join(specs)} has a parameter '{name}' ({have})"
 
 
 def group_device(records, args):

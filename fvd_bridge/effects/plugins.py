@@ -21,7 +21,7 @@ import sys
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 from ..records.record import Record
 from .base import STAGES, Effect
 from .catalog import EFFECTS as BUILTIN
@@ -51,21 +51,21 @@ def _module_name(path: str) -> str:
 def load_module(path: str):
     """Import a plugin file; any failure -> InputError naming the file."""
     if not os.path.isfile(path):
-        raise InputError(f"--plugin {path}: no such file")
+        raise InputError(f"{option('--plugin', path)}: no such file")
     name = _module_name(path)
     spec = importlib.util.spec_from_file_location(name, path)
     if spec is None or spec.loader is None:
-        raise InputError(f"--plugin {path}: not a Python file")
+        raise InputError(f"{option('--plugin', path)}: not a Python file")
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # pickling and dataclasses need it registered
     try:
         spec.loader.exec_module(module)
     except SyntaxError as exc:
         sys.modules.pop(name, None)
-        raise InputError(f"--plugin {path}: line {exc.lineno}: syntax error ({exc.msg})") from None
+        raise InputError(f"{option('--plugin', path)}: line {exc.lineno}: syntax error ({exc.msg})") from None
     except Exception as exc:  # a user's file may raise anything
         sys.modules.pop(name, None)
-        raise InputError(f"--plugin {path}: failed to load ({type(exc).__name__}: {exc})") from None
+        raise InputError(f"{option('--plugin', path)}: failed to load ({type(exc).__name__}: {exc})") from None
     return module
 
 
@@ -177,15 +177,15 @@ def load_plugins(paths) -> dict:
         digest = file_sha256(path)
         effects = getattr(module, "EFFECTS", None)
         if effects is None:
-            raise InputError(f"--plugin {path}: defines no EFFECTS list (see examples/custom_effect.py)")
+            raise InputError(f"{option('--plugin', path)}: defines no EFFECTS list (see examples/custom_effect.py)")
         if isinstance(effects, Effect):
             effects = [effects]
         try:
             effects = list(effects)
         except TypeError:
-            raise InputError(f"--plugin {path}: EFFECTS must be a list of Effect objects") from None
+            raise InputError(f"{option('--plugin', path)}: EFFECTS must be a list of Effect objects") from None
         if not effects:
-            raise InputError(f"--plugin {path}: EFFECTS is empty")
+            raise InputError(f"{option('--plugin', path)}: EFFECTS is empty")
         for e in effects:
             if isinstance(e, Effect):
                 # a plugin has no C step form and no OpenSees form: the registry says so

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
@@ -25,7 +25,7 @@ DEFAULT_OPTIMIZER = "local"
 def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None, stall: int | None = None):
     """Optimizer settings with CLI/YAML overrides (None keeps the default)."""
     if optimizer not in OPTIMIZERS:
-        raise InputError(f"--optimizer '{optimizer}': expected one of {', '.join(OPTIMIZERS)}")
+        raise InputError(f"{option('--optimizer', optimizer)}: expected one of {', '.join(OPTIMIZERS)}")
     if optimizer.startswith("local"):  # pop, gens: the DE check's (local+de: always run)
         base = LocalSettings()
         return replace(base, always_check=optimizer == "local+de",

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 
 #: 'NAME@TEST': a parameter's value on one test of a joint fit
 SEP = "@"
@@ -30,7 +30,7 @@ class Layout:
     def __post_init__(self):
         for name in self.per_test:
             if name not in self.model.names:
-                raise InputError(f"--per-test {name}: model {self.model.spec} has no parameter '{name}' "
+                raise InputError(f"{option('--per-test', name)}: model {self.model.spec} has no parameter '{name}' "
                                  f"(has: {', '.join(self.model.names)})")
 
     @property

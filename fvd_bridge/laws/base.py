@@ -9,7 +9,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 from .scalar import members
 
 BOUND_MODES = ("auto", "paper")
@@ -135,7 +135,7 @@ class Law:
     def bounds(self, mode: str, scales: dict) -> np.ndarray:
         """(n_par, 2) bounds: 'paper' (Table 4) or 'auto' (from the record's scales)."""
         if mode not in BOUND_MODES:
-            raise InputError(f"--bounds '{mode}': expected one of {', '.join(BOUND_MODES)}")
+            raise InputError(f"{option('--bounds', mode)}: expected one of {', '.join(BOUND_MODES)}")
         rows = [p.paper if mode == "paper" else p.auto(scales) for p in self.parameters]
         return np.asarray(rows, dtype=float)
 

@@ -11,7 +11,7 @@ at 2 and law 6's K at 30, and keep law 7 below the measured force).
 
 from __future__ import annotations
 
-from ..errors import InputError
+from ..errors import InputError, option
 from . import algebraic, differential, starts
 from . import opensees_forms as ops_form
 from .base import Derived, Law, OpenSeesForm, Parameter
@@ -165,7 +165,7 @@ def parse_law_list(text: str) -> list[Law]:
             try:
                 lo, hi = int(a), int(b)
             except ValueError:
-                raise InputError(f"--laws '{text}': '{part}' is not a range like 1-9") from None
+                raise InputError(f"{option('--laws', text)}: '{part}' is not a range like 1-9") from None
             out.extend(get_law(k) for k in range(lo, hi + 1))
         else:
             out.append(get_law(part))

@@ -20,7 +20,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 from ..units import CANONICAL, factor, unit_system
 from . import validate
 from .cycles import displacement_noise
@@ -140,7 +140,7 @@ def _checked(path: str, opts: ReadOptions) -> ReadOptions:
         raise InputError(f"--dt {opts.dt:g}: must be a positive time step in s")
     check_settings(opts.sg_window, opts.sg_order)
     if opts.force_sign not in (None, *FORCE_SIGNS):
-        raise InputError(f"--force-sign {opts.force_sign}: expected {' or '.join(FORCE_SIGNS)}")
+        raise InputError(f"{option('--force-sign', opts.force_sign)}: expected {' or '.join(FORCE_SIGNS)}")
     return opts
 
 

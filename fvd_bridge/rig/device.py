@@ -35,7 +35,7 @@ from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 
 #: name -> (unit, description)
 PARAMETERS = {
@@ -188,9 +188,9 @@ def production_series(n: int, nominal: Device, scatter: dict | None = None, seed
     try:
         n = int(n)
     except (TypeError, ValueError):
-        raise InputError(f"--devices '{n}': not a whole number") from None
+        raise InputError(f"{option('--devices', n)}: not a whole number") from None
     if n < 1:
-        raise InputError(f"--devices {n}: at least 1 device")
+        raise InputError(f"{option('--devices', n)}: at least 1 device")
     scatter = _check_scatter(scatter)
     rng = np.random.default_rng(seed)
     out = []

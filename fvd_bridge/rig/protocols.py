@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, positive
+from ..errors import InputError, positive, option
 from ..records.motions import read_two_column, starts_with_number
 
 #: the paper's identification test (section 3): 10 cycles of 40 mm at 0.5 m/s
@@ -291,4 +291,4 @@ def from_spec(spec: str, **options) -> Protocol:
         return acceptance(**opts)
     if spec.startswith("history:"):
         return read_history(spec.partition(":")[2])
-    raise InputError(f"--protocol '{spec}': expected paper, acceptance or history:FILE.csv")
+    raise InputError(f"{option('--protocol', spec)}: expected paper, acceptance or history:FILE.csv")
