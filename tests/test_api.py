@@ -87,6 +87,8 @@ def test_diagnose_accept_hands_over_the_better_model(rec):
     assert better.of < 0.2 * base.of
     assert better.params["series_stiffness.Ks"].value == pytest.approx(TRUE_KS, rel=0.1)
     assert "<table" in diag._repr_html_()
+    # printed, a candidate is one line that says what it is, not its fields
+    assert repr(diag.best).startswith("<Candidate 2+series_stiffness: OF ") and len(repr(diag.best)) < 120
     with pytest.raises(fb.InputError, match="not a candidate"):
         diag.accept("no_such_effect")
 

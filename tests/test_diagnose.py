@@ -238,7 +238,9 @@ def test_next_lines_run_as_printed(friction_csv, tmp_path, capsys):
     out = capsys.readouterr().out
     lines = [line[len("next: "):] for line in out.splitlines() if line.startswith("next: ")]
     export, again = lines
-    assert export.startswith("fvd-bridge export opensees ") and again.endswith("--law 2+friction")
+    assert export.startswith("fvd-bridge export opensees ") and "--law 2+friction --out " in again
+    # it writes beside this diagnosis, not over it
+    assert shlex.split(again)[-1] == str(tmp_path / "diagnose_2+friction")
     # one test: the verdict says its check was the held-out cycles of that test
     assert "checked on this test's held-out cycles only" in out
     assert str(friction_csv) in again
@@ -272,7 +274,8 @@ def test_cli_per_test_advice_and_the_command_it_prints(disagreeing_tests, tmp_pa
     assert "suggestion: the tests disagree: C differs between tests" in out, out
     calibrate, again = [line[len("next: "):] for line in out.splitlines() if line.startswith("next: ")]
     assert calibrate.startswith("fvd-bridge calibrate ") and "--laws 2 --per-test C" in calibrate
-    assert again.startswith("fvd-bridge diagnose ") and again.endswith("--law 2 --per-test C")
+    assert again.startswith("fvd-bridge diagnose ") and "--law 2 --per-test C --out " in again
+    assert shlex.split(again)[-1] == "results/diagnose_per_test_C"  # beside results/diagnose, not over it
     assert cli.main([*shlex.split(again)[1:], "--json", *fast]) == 0
     report = json.loads(capsys.readouterr().out)
     assert report["per_test"] == ["C"] and report["settings"]["per_test"] == ["C"]
@@ -280,6 +283,7 @@ def test_cli_per_test_advice_and_the_command_it_prints(disagreeing_tests, tmp_pa
     assert report["params"]["C@dev_b"] == pytest.approx(48.0, rel=0.03)
     assert report["at_noise_floor"] and report["agreement"]["advice"] is None, report["verdict"]
     assert (tmp_path / "results" / "diagnose" / "dev_diagnose.json").is_file()
+    assert (tmp_path / "results" / "diagnose_per_test_C" / "dev_diagnose.json").is_file()
 
 
 def test_api_diagnose_per_test_and_the_ladder(disagreeing_tests):

@@ -549,3 +549,17 @@ def test_the_definition_is_reused_after_a_wipe_and_once_per_damper(calibrated, t
             ops.setStrain(0.0, 50.0)
             assert ops.getStress() > 0.0
     ops.wipe()
+
+
+@pytest.mark.parametrize("name", ["damper.py", "damper.fmu"])
+def test_an_output_in_a_folder_that_does_not_exist_is_refused(name, tmp_path, capsys):
+    """-o into a missing folder: one line naming it, exit 2, no folder made."""
+    from fvd_bridge import cli
+
+    params = str(GOLDEN_DIR.parent / "fixtures" / "calibration_v1" / "law2+friction.yaml")
+    target = tmp_path / "nowhere" / "deeper" / name
+    verb = "opensees" if name.endswith(".py") else "fmu"
+    assert cli.main(["export", verb, params, "-o", str(target)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"fvd-bridge: -o {target}: folder {target.parent} does not exist", err
+    assert not (tmp_path / "nowhere").exists()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import sys
 
-from tqdm import tqdm
+from ..progress import bar as progress_bar
 
 
 class Resumable:
@@ -44,8 +44,7 @@ class Resumable:
         yield from stored
         if not todo:
             return
-        bar = tqdm(total=self.total, initial=self.resumed, unit="unit", disable=not self.progress,
-                   dynamic_ncols=True, desc="units")
+        bar = progress_bar(self.total, self.progress, unit="unit", desc="units", initial=self.resumed)
         try:
             for item, result in self.inner.run(fn, todo):
                 result = self.store.save(item[0], result)

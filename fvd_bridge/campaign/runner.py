@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
 
-from tqdm import tqdm
+from ..progress import bar as progress_bar
 
 from .. import timing
 from ..catalog import catalog as load_catalog
@@ -81,7 +81,7 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     executor = executor or Processes(cs.jobs)
     tasks = make_tasks(records, cs)
     results: dict = {(rec.name, spec): [None] * cs.runs for rec in records for spec in cs.specs}
-    bar = tqdm(total=len(tasks), disable=not progress, unit="fit", dynamic_ncols=True)
+    bar = progress_bar(len(tasks), progress, unit="fit")
     try:
         for (task, _, _), res in executor.run(run_task, ((t, records[t.device_index], cs) for t in tasks)):
             runs = results[(task.device, task.spec)]
@@ -120,8 +120,7 @@ def run_intervals(records, results: dict, cs: CampaignSettings, executor=None, p
             best = min(results[(rec.name, spec)], key=lambda r: r.of)
             items.append(((rec.name, spec), rec, cs, best.params, best.bounds, cs.per_test_for(spec), best.of))
     out = {}
-    bar = tqdm(total=len(items), disable=not progress, unit="calibration", dynamic_ncols=True,
-               desc=f"intervals ({cs.intervals} replicates)")
+    bar = progress_bar(len(items), progress, unit="calibration", desc=f"intervals ({cs.intervals} replicates)")
     try:
         for item, res in executor.run(interval_task, items):
             out[item[0]] = res

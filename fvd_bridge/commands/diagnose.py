@@ -167,12 +167,15 @@ def _next_lines(args, diag, paths: dict) -> list:
     device = [f"--device {shlex.quote(args.device)}"] if args.device else []
     records = [*map(shlex.quote, args.record), *device, *reading, *plugins]
     flags = [f"--per-test {shlex.quote(n)}" for n in (*diag.per_test, *([advice.name] if advice else []))]
+    beside = os.path.dirname(os.path.normpath(args.out)) or "."  # each next command writes beside this one's
     if advice is not None:
-        out = shlex.quote(os.path.join(os.path.dirname(os.path.normpath(args.out)) or ".", "calibrate"))
+        out = shlex.quote(os.path.join(beside, "calibrate"))
+        again_out = shlex.quote(os.path.join(beside, f"diagnose_per_test_{safe_name(advice.name)}"))
         return [" ".join(["fvd-bridge calibrate", *records, f"--laws {diag.spec}", *flags, f"--out {out}"]),
-                " ".join(["fvd-bridge diagnose", *records, f"--law {diag.spec}", *flags])]
+                " ".join(["fvd-bridge diagnose", *records, f"--law {diag.spec}", *flags, f"--out {again_out}"])]
     target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
-    again = ["fvd-bridge diagnose", *records, f"--law {best.spec}", *flags]
+    again_out = shlex.quote(os.path.join(beside, f"diagnose_{safe_name(best.spec)}"))
+    again = ["fvd-bridge diagnose", *records, f"--law {best.spec}", *flags, f"--out {again_out}"]
     return [f"fvd-bridge export {target} {shlex.quote(paths[best.spec])} -o {output}", " ".join(again)]
 
 

@@ -9,7 +9,7 @@ from ..calibration import Calibration
 from ..errors import InputError
 from ..fit import objective
 from ..golden import golden_record, reference_input
-from ..io.staging import atomic_file
+from ..io.staging import atomic_file, output_folder_exists
 from ..units import system_text
 from .common import CALIBRATION_RECORD, add_plugin_option, add_record_options, read_as_calibrated, read_records
 
@@ -70,6 +70,7 @@ def run_opensees(args) -> int:
         ext = os.path.splitext(args.output)[1].lower()
         if ext not in (".py", ".tcl"):
             raise InputError(f"-o {args.output}: the suffix must be .py (OpenSeesPy) or .tcl (Tcl)")
+        output_folder_exists(args.output)
         lang = ext[1:]
     cal = Calibration.load(args.params, plugins=args.plugin)
     export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
@@ -153,6 +154,7 @@ def run_fmu(args) -> int:
 
     if not args.output.lower().endswith(".fmu"):
         raise InputError(f"-o {args.output}: the file name must end in .fmu")
+    output_folder_exists(args.output)
     cal = Calibration.load(args.params, plugins=args.plugin)
     record = _fmu_check_record(cal, args)
     if args.check:

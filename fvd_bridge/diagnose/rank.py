@@ -107,6 +107,10 @@ class Candidate:
     def spec(self) -> str:
         return self.model.spec
 
+    def __repr__(self) -> str:
+        verdict = "significant" if self.significant else f"not significant: {self.reason}" if self.reason else ""
+        return f"<Candidate {self.spec}: OF {self.of:.4g}, {self.improvement:.0%} lower{'; ' + verdict if verdict else ''}>"
+
     @property
     def exports(self) -> dict:
         """{target: why not ('' when it exports)} of the refitted model

@@ -12,6 +12,8 @@ import json
 import os
 import shutil
 
+from ..errors import InputError
+
 
 
 @contextlib.contextmanager
@@ -37,6 +39,14 @@ def staged_dir(out: str):
         for f in files:
             os.replace(os.path.join(root, f), os.path.join(out, rel, f))
     shutil.rmtree(stage, ignore_errors=True)
+
+
+def output_folder_exists(path: str, flag: str = "-o") -> None:
+    """An InputError unless the folder of the output file ``path`` exists
+    (an output file's folder is not made on a typo's word)."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InputError(f"{flag} {path}: folder {os.path.dirname(path) or folder} does not exist")
 
 
 @contextlib.contextmanager
