@@ -24,3 +24,14 @@ def test_interval_share_and_header():
     assert interval(39.7728, 40.3019, 0.135) == "[39.77, 40.30]"
     assert share(0.0123) == "1.2%" and share(0.594) == "59%" and share(1.135) == "114%" and share(0.0005) == "0.050%"
     assert with_unit("C", "kN") == "C [kN]" and with_unit("alpha", "") == "alpha"
+
+
+def test_cells_and_spreads():
+    from fvd_bridge.report.numbers import cell, with_spread
+
+    assert cell(3001) == "3001" and cell("2865") == "2865"  # counts are exact
+    assert cell("1.3761150366403045") == "1.376" and cell(267.4933484401716) == "267.5"
+    assert cell("law 2 | device_01") == "law 2 | device_01" and cell(None) == "" and cell("") == ""
+    assert cell("nan") == "n/a" and cell(True) == "yes"
+    assert with_spread(45.4136, 0.048) == "45.414 (0.048)"
+    assert with_spread(0.001891, 0.0) == "0.001891" and with_spread(0.02752, 3.5e-18) == "0.02752"

@@ -79,3 +79,36 @@ def share(x, digits: int = 2) -> str:
 def with_unit(name: str, unit: str | None) -> str:
     """A header with its unit: 'C [kN·(s/mm)^alpha]'; the bare name without one."""
     return f"{name} [{unit}]" if unit else name
+
+
+def cell(value) -> str:
+    """Any table cell for people: a whole number (a count) as it is, any other
+    number ``rounded`` to ``DEFAULT_DIGITS``, text that reads as a number (a
+    CSV cell) the same, other text as it is; '' for None or ''."""
+    if value is None or isinstance(value, bool):
+        return "" if value is None else ("yes" if value else "no")
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return rounded(value)
+    text = str(value)
+    try:
+        return str(int(text))
+    except ValueError:
+        pass
+    try:
+        x = float(text)
+    except ValueError:
+        return text
+    return rounded(x)
+
+
+def with_spread(value, spread) -> str:
+    """'45.41 (0.05)': a mean rounded to its spread (a sigma over runs,
+    ``rounded``) and the spread to two significant digits; the mean alone,
+    to ``DEFAULT_DIGITS``, when the spread is nil (below a millionth of it)."""
+    if value is None:
+        return ""
+    if spread is None or not math.isfinite(float(spread)) or abs(float(spread)) <= 1e-6 * abs(float(value)):
+        return rounded(value)
+    return f"{rounded(value, spread)} ({rounded(spread, digits=2)})"
