@@ -1,7 +1,7 @@
 """FMI 3.0 co-simulation FMU of a calibrated damper: build and validate.
 
 ``build_fmu(calibration, path)`` writes one FMU that holds the C sources of
-the repository's ``fmu/`` folder (one model for every law and built-in effect
+the package's ``fmu/`` folder (``FMU_SOURCES``; one model for every law and built-in effect
 of the registry, chosen by structural parameters; laws.c and effects.c mirror
 the Python step forms function for function, model.c is the FMI plumbing)
 and the interface generated from the registry (``fmu_interface``:
@@ -57,9 +57,12 @@ from ..errors import InputError, positive
 from ..fit.objective import objective
 from . import fmu_interface
 from .fmu_interface import MODEL_IDENTIFIER
+from .fmu_toolchain import build_log_problem, toolchain_problem
 
-#: the hand-kept C sources and build description (the repository's fmu/ folder)
-FMU_SOURCES = Path(__file__).resolve().parents[2] / "fmu"
+#: the hand-kept C sources and build description: package data (fvd_bridge/fmu/, shipped in the
+#: wheel), found beside this module alike in a checkout, an editable install and an installed wheel
+#: (a folder on disk, not importlib.resources: the C compiler reads the files; pip installs unzipped)
+FMU_SOURCES = Path(__file__).resolve().parents[1] / "fmu"
 SOURCE_FILES = ("model.h", "damper.h", "model.c", "laws.c", "effects.c", "fmi3Functions.c")
 #: written into the FMU by build_fmu, generated from the registry (fmu_interface) and the calibration
 GENERATED_FILES = ("sources/config.h", "sources/calibration.h", "modelDescription.xml")
@@ -79,8 +82,12 @@ def build_fmu(calibration, path, h_max: float | None = None) -> str:
 
     ``h_max`` [s]: the largest integration sub-step (default: the
     calibration record's dt, else DEFAULT_H_MAX).  A model with a plugin
-    effect cannot be exported (InputError)."""
+    effect cannot be exported, nor one built without cmake and a C compiler
+    (InputError naming what to install)."""
     values = start_values(calibration, _h_max(calibration, h_max))
+    problem = toolchain_problem()  # before anything is written
+    if problem:
+        raise InputError(problem)
     path = os.path.abspath(os.fspath(path))
     os.makedirs(os.path.dirname(path), exist_ok=True)
     token = "{" + str(uuid.uuid4()) + "}"  # once: into the XML and the C define
@@ -271,7 +278,8 @@ def substeps_of(h: float, h_max: float) -> int:
 def _source(name: str) -> Path:
     path = FMU_SOURCES / name
     if not path.is_file():
-        raise InputError(f"{path}: the FMU's C sources are missing (they live in the repository's fmu/ folder)")
+        raise InputError(f"{path}: the FMU's C sources are missing from this installation of fvd_bridge "
+                         f"(package data of its wheel: reinstall fvd_bridge)")
     return path
 
 
@@ -348,16 +356,19 @@ def _c_list(name: str, items: list) -> str:
 
 
 def _compile(unzipdir: Path, build_dir: Path) -> None:
-    """The platform binary by FMPy's CMake project, quietly (its log shown on failure)."""
-    if shutil.which("cmake") is None:
-        raise InputError("building an FMU needs cmake and a C compiler (Debian: apt-get install cmake gcc)")
+    """The platform binary by FMPy's CMake project, quietly (its log shown on
+    failure; a missing C library header: one line, InputError)."""
     build_dir.mkdir()
     log = build_dir.parent / "build.log"
     try:
         with _output_to(log):
             build_platform_binary(unzipdir.resolve(), build_dir, cmake_options=dict(CMAKE_OPTIONS))
     except subprocess.CalledProcessError as exc:
-        tail = "\n".join(log.read_text(errors="replace").splitlines()[-20:])
+        text = log.read_text(errors="replace")
+        problem = build_log_problem(text)
+        if problem:
+            raise InputError(problem) from None
+        tail = "\n".join(text.splitlines()[-20:])
         raise RuntimeError(f"compiling the FMU failed ({exc}):\n{tail}") from None
     binary = unzipdir / "binaries" / _platform_tuple() / (MODEL_IDENTIFIER + _library_suffix())
     if not binary.is_file():
