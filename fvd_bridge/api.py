@@ -49,9 +49,9 @@ def _model(model_or_spec, plugins=()):
 
 
 def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
-              bounds="auto", device: str | None = None, per_test=(), start: Calibration | None = None,
+              bounds="auto", device: str | None = None, per_test=(), start: Calibration | dict | None = None,
               intervals: int = REPLICATES, plugins=(), pop: int | None = None,
-              gens: int | None = None) -> Calibration:
+              gens: int | None = None, fixed: dict | None = None) -> Calibration:
     """Calibrate a model on one record or on the tests of one device.
 
     Parameters
@@ -73,8 +73,13 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
         The device's name when ``records`` holds several tests.
     per_test : list of str
         Parameters fitted per test (e.g. ``["beta"]``); the others are shared.
-    start : Calibration, optional
-        A calibration that ``model`` extends, to start from.
+    start : Calibration or dict, optional
+        A calibration that ``model`` extends, to start from; or
+        ``{name: value}``: start values of some parameters (lmfit's
+        ``value=``), the data's start for the others.
+    fixed : dict, optional
+        ``{name: value}``: parameters held at a value, not fitted (lmfit's
+        ``vary=False``); their interval is the value.
     intervals : int
         Bootstrap replicates of the 95% intervals (0: none).
     plugins : list of str
@@ -93,8 +98,14 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
             raise InputError(f"runs={runs}: must be at least 1")
         record = as_tests(records, device)
         mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
+        for name, value in (fixed or {}).items():
+            if name not in m.names:
+                raise InputError(f"fixed={{{name!r}: {value}}}: model {m.spec} has no parameter '{name}' "
+                                 f"(has: {', '.join(m.names)})")
+            overrides[name] = (float(value), float(value))
         settings = settings_for(optimizer, pop, gens)
-        first = None if start is None else nested_start(m, record, start.model.names, start.values, per_test)
+        first = (start if start is None or isinstance(start, dict)
+                 else nested_start(m, record, start.model.names, start.values, per_test))
         fits = [fit_model(m, record, bounds=mode, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings,
                           per_test=per_test, start=first, overrides=overrides) for r in range(int(runs))]
         best = min(fits, key=lambda f: f.of)

@@ -559,7 +559,9 @@ class Calibration:
         values = {**self.named(), **{f"{n}{SEP}{t['name']}": v for t in self.tests
                                      for n, v in (t.get("parameters") or {}).items()}}
         units = dict(zip(self.model.names, self.model.units))
-        out = [f"{n} = {values[n]:.5g} {units[n.split(SEP)[0]]}, 95% [{e['ci95'][0]:.5g}, {e['ci95'][1]:.5g}]"
+        out = [f"{n} = {values[n]:.5g} {units[n.split(SEP)[0]]} (fixed by the caller)"
+               if e["ci95"][0] == e["ci95"][1] else
+               f"{n} = {values[n]:.5g} {units[n.split(SEP)[0]]}, 95% [{e['ci95'][0]:.5g}, {e['ci95'][1]:.5g}]"
                + (f" (stderr {e['stderr']:.2g})" if e.get("stderr") is not None else "")
                for n, e in given.items() if n in values]
         out += [f"{n} = {d['value']:.5g} {d['unit']}, 95% [{d['ci95'][0]:.5g}, {d['ci95'][1]:.5g}] "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+import numpy as np
 import yaml
 
 from ..campaign.outputs import write_outputs
@@ -53,6 +54,9 @@ def add_campaign_options(p):
     p.add_argument("--bound", action="append", default=[], metavar="[LAW:]NAME=LO,HI",
                    help="override one parameter's bounds, for every law that has it or for one "
                         "law/spec, e.g. --bound 9:alpha=0,50 (repeatable)")
+    p.add_argument("--fix", action="append", default=[], metavar="[LAW:]NAME=VALUE",
+                   help="hold one parameter at a value (not fitted; its interval is the value), for every law "
+                        "that has it or for one law/spec, e.g. --fix 9:beta=1.6 (repeatable)")
     p.add_argument("--seed", type=int, default=0, help="base seed; the same seed gives the same results")
     p.add_argument("--optimizer", default=DEFAULT_OPTIMIZER, choices=OPTIMIZERS,
                    help="'local' (default: least squares on eq. 18 from the data's start and a sample's; "
@@ -103,6 +107,19 @@ def parse_bound(text: str) -> tuple:
     if not lo < hi:
         raise InputError(f"--bound '{text}': the lower bound must be below the upper")
     return (spec or None, name, lo, hi)
+
+
+def parse_fix(text: str) -> tuple:
+    """'[SPEC:]NAME=VALUE' -> (spec or None, name, value, value): a bound of one value."""
+    head, sep, value = str(text).partition("=")
+    spec, _, name = head.rpartition(":")
+    try:
+        x = float(value)
+    except ValueError:
+        raise InputError(f"--fix '{text}': expected [LAW:]NAME=VALUE, e.g. 9:beta=1.6") from None
+    if not sep or not name or not np.isfinite(x):
+        raise InputError(f"--fix '{text}': expected [LAW:]NAME=VALUE with a finite value, e.g. 9:beta=1.6")
+    return (spec or None, name, x, x)
 
 
 def option_parser() -> argparse.ArgumentParser:
@@ -169,10 +186,10 @@ def campaign_settings(args) -> CampaignSettings:
             raise InputError(f"--{name} {value}: must be at least 1")
     settings_for(args.optimizer, args.pop, args.gens, args.stall)
     specs = parse_specs(str(args.laws), cat)
-    overrides = tuple(parse_bound(b) for b in args.bound)
-    for spec, name, _, _ in overrides:
+    overrides = tuple(parse_bound(b) for b in args.bound) + tuple(parse_fix(f) for f in args.fix)
+    for spec, name, lo, hi in overrides:
         targets = [spec] if spec else list(specs)
-        given = f"--bound '{spec + ':' if spec else ''}{name}=...'"
+        given = f"--{'fix' if lo == hi else 'bound'} '{spec + ':' if spec else ''}{name}=...'"
         if spec and spec not in specs:
             raise InputError(f"{given}: law {spec} is not among --laws {args.laws}")
         if not any(name in cat.model(t).names for t in targets):

@@ -45,7 +45,7 @@ def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict)
         cols = [k for k, n in enumerate(names) if n == name or n.startswith(name + "@")]
         if not cols:
             raise InputError(f"--bound {name}: model {spec} has no parameter '{name}' (has: {', '.join(names)})")
-        if not lo < hi:
+        if not lo <= hi:  # lower == upper: the caller fixes the parameter there
             raise InputError(f"--bound {name}={lo:g},{hi:g}: the lower bound must be below the upper")
         b[cols] = (lo, hi)
     return b
@@ -125,6 +125,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
         settings = replace(settings, always_check=True)
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
+    if isinstance(start, dict):  # some parameters' start values, the data's (or the bounds' middle) for the rest
+        start = start_with(layout.names, data_start(model, device, layout.per_test), b, start, model.spec)
     if start is None and local_search:  # the local search starts from the data's candidates
         start = data_start(model, device, layout.per_test)
     p0 = None if start is None else np.clip(np.atleast_2d(np.asarray(start, dtype=float)), b[:, 0], b[:, 1])
@@ -157,6 +159,20 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
                      optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
                      record=device.name, log=[bool(v) for v in space.log],
                      off=layout.repeat(model.off_values()), tests=list(device.test_names))
+
+
+def start_with(names: list, base, bounds: np.ndarray, values: dict, spec: str) -> np.ndarray:
+    """Start rows (k, n_cols): ``base`` (the data's candidates; None: the
+    bounds' middle) with the named parameters (and their per-test columns)
+    at ``values``."""
+    rows = np.atleast_2d(np.array(base if base is not None else bounds.mean(axis=1), dtype=float))
+    for name, value in values.items():
+        cols = [k for k, n in enumerate(names) if n == name or n.startswith(name + "@")]
+        if not cols:
+            raise InputError(f"start={{{name!r}: {value}}}: model {spec} has no parameter '{name}' "
+                             f"(has: {', '.join(names)})")
+        rows[:, cols] = float(value)
+    return rows
 
 
 def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps: int = 1):

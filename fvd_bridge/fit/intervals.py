@@ -31,7 +31,7 @@ force noise (eq. 18's L1 but within the noise's smallest 5%),
 each step halved until the cost falls, until a step (taken, the last)
 moves no parameter by more than STEP_TOL of its standard error (the
 sandwich H^-1 B H^-1; at most NEWTON_STEPS).  On lab-like law-2 and law-9
-records (1,757 and 9,439 samples) 2-4 evaluations a replicate reach the
+records (1,757 and 9,439 samples) 3-4.5 evaluations a replicate reach the
 replicates' own full refits (``polish_model``) to 0.04 of their spread,
 at a third of their cost (``tests/test_intervals.py``); a replicate whose
 steps do not settle (a singular H, a force that is not finite) is
@@ -80,7 +80,7 @@ MISFIT = 1.5
 #: the soft-L1 scale of the replicates' Newton steps, a share of the force noise
 SOFT_SHARE = 0.05
 #: the Newton steps settle when no parameter moves by more than this share of its standard error
-STEP_TOL = 0.25
+STEP_TOL = 0.05
 #: at most this many Newton steps per replicate (and as many halvings), then its full refit
 NEWTON_STEPS = 8
 #: forward-difference step of the replicates' gradients, a share of each parameter
@@ -191,10 +191,18 @@ def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list
     for b, replica in enumerate(replicas):
         settled, ofs[b] = _newton(model, layout, replica, params, noise, bounds)
         estimates[b] = (settled if settled is not None
-                        else polish_model(model, replica, params, per_test=layout.per_test)[0])
+                        else polish_model(model, replica, params, per_test=layout.per_test,
+                                          overrides=_fixed(layout.names, bounds))[0])
         if progress:
             progress(b + 1)
     return estimates, float(np.mean(ofs))
+
+
+def _fixed(names: list, bounds) -> dict:
+    """{name: (value, value)} of the parameters the caller fixed (bounds of one value)."""
+    if bounds is None:
+        return {}
+    return {n: (float(lo), float(hi)) for n, (lo, hi) in zip(names, np.asarray(bounds, dtype=float)) if lo == hi}
 
 
 def _newton(model, layout, replica, params: np.ndarray, noise: list, bounds=None):
@@ -206,13 +214,15 @@ def _newton(model, layout, replica, params: np.ndarray, noise: list, bounds=None
     n = params.size
     lower, upper = (np.asarray(bounds, dtype=float).T if bounds is not None
                     else (np.full(n, -np.inf), np.full(n, np.inf)))
-    h = FD_SHARE * np.maximum(np.abs(params), 1e-9)
+    free = upper > lower  # a parameter fixed by the caller (lower == upper) does not move
+    h = np.where(free, FD_SHARE * np.maximum(np.abs(params), 1e-9), 0.0)
+    nudges = np.diag(h)[free]
     weights = residual_weights(replica)
     scale = np.concatenate([SOFT_SHARE * s * np.abs(c) for s, c in zip(noise, weights) if c is not None])
     x, of0 = np.asarray(params, dtype=float), None
     last_x, last_cost, step = x, np.inf, np.zeros(n)
     for _ in range(2 * NEWTON_STEPS):
-        R = joint_residuals(model, replica, layout, np.vstack([x, x + np.diag(h)]), weights=weights)
+        R = joint_residuals(model, replica, layout, np.vstack([x, x + nudges]), weights=weights)
         if not np.isfinite(R).all():
             return None, of0 if of0 is not None else np.inf
         if of0 is None:
@@ -223,10 +233,11 @@ def _newton(model, layout, replica, params: np.ndarray, noise: list, bounds=None
             x = np.clip(last_x + step, lower, upper)
             continue
         last_x, last_cost = x, cost
-        newton = _newton_step(R[0], (R[1:] - R[0]) / h[:, None], scale)
+        newton = _newton_step(R[0], (R[1:] - R[0]) / h[free][:, None], scale)
         if newton is None:
             return None, of0
-        step, stderr = newton
+        step, stderr = np.zeros(n), np.ones(n)
+        step[free], stderr[free] = newton
         if np.all(np.abs(step) <= STEP_TOL * stderr):
             return np.clip(x + step, lower, upper), of0
         x = np.clip(x + step, lower, upper)
@@ -255,8 +266,10 @@ def _newton_step(e: np.ndarray, G: np.ndarray, scale: np.ndarray):
 def summarize(model, layout, params: np.ndarray, estimates: np.ndarray, bounds=None) -> Intervals:
     """Intervals from the replicates' estimates (B, n) around ``params``."""
     names = layout.names
-    bias = estimates.mean(axis=0) - params
-    stderr = np.hypot(estimates.std(axis=0, ddof=1), BIAS_SHARE * bias)
+    fixed = (np.asarray(bounds, dtype=float)[:, 0] == np.asarray(bounds, dtype=float)[:, 1]
+             if bounds is not None else np.zeros(len(names), bool))  # held by the caller: no spread, no bias
+    bias = np.where(fixed, 0.0, estimates.mean(axis=0) - params)
+    stderr = np.where(fixed, 0.0, np.hypot(estimates.std(axis=0, ddof=1), BIAS_SHARE * bias))
     ci = np.column_stack([params - bias - Z95 * stderr, params - bias + Z95 * stderr])
     if bounds is not None:  # no value beyond the search: the model is not defined there
         ci = np.clip(ci, np.asarray(bounds, dtype=float)[:, :1], np.asarray(bounds, dtype=float)[:, 1:])
@@ -287,6 +300,8 @@ def summarize(model, layout, params: np.ndarray, estimates: np.ndarray, bounds=N
                                       f"[{p['ci95'][0]:.4g}, {p['ci95'][1]:.4g}]")
             continue
         lo, hi = ci[j]
+        if bounds is not None and bounds[j][0] == bounds[j][1]:  # fixed by the caller: its interval is its value
+            continue
         if bounds is not None and np.isclose(params[j], bounds[j], rtol=1e-6, atol=0.0).any():  # ended on it
             out.not_identified.append(f"{name}: ended on its search bound [{bounds[j][0]:.4g}, {bounds[j][1]:.4g}]"
                                       f", so its interval is one-sided")

@@ -50,10 +50,12 @@ class FitResult:
         """Parameters within ``tol`` of a bound in the search space (log-scaled ones
         judged on their log scale): [(name, 'lower'|'upper')].  A lower bound of 0
         and an effect's 'off' value are natural ends, not starvation."""
-        x = Space.of(self.bounds, self.log or None).to_unit(np.asarray(self.params))
+        x = Space.of(self.bounds, self.log or None).position(np.asarray(self.params))
         off = self.off or [None] * len(self.names)
         out = []
         for name, xi, (lo, hi), o in zip(self.names, x, self.bounds, off):
+            if lo == hi:  # fixed by the caller
+                continue
             if xi <= tol and lo != 0.0 and lo != o:
                 out.append((name, "lower"))
             elif xi >= 1.0 - tol and hi != o:

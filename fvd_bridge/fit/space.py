@@ -12,8 +12,11 @@ LOG_SPAN = 1e-6
 
 @dataclass(frozen=True)
 class Space:
-    """Map x in [0, 1]^n to parameters within ``bounds`` (n, 2); ``log[i]`` maps
-    parameter i geometrically (for parameters spanning decades)."""
+    """Map x in [0, 1]^n to parameters within ``bounds`` (n_all, 2); ``log[i]``
+    maps parameter i geometrically (for parameters spanning decades).  A
+    parameter whose bounds are one value (lower == upper: fixed by the
+    caller) is not a dimension of the cube: n counts the free ones, and
+    ``to_params`` puts the fixed ones in."""
 
     bounds: np.ndarray
     log: np.ndarray
@@ -25,29 +28,42 @@ class Space:
         return cls(b, lg)
 
     @property
+    def free(self) -> np.ndarray:
+        """Boolean (n_all,): the parameters the search moves."""
+        return self.bounds[:, 1] > self.bounds[:, 0]
+
+    @property
     def n(self) -> int:
-        return len(self.bounds)
+        return int(self.free.sum())
 
     def _log_lo(self) -> np.ndarray:
         lo, hi = self.bounds[:, 0], self.bounds[:, 1]
         return np.where(lo > 0, lo, hi * LOG_SPAN)
 
     def to_params(self, x: np.ndarray) -> np.ndarray:
-        """(..., n) unit-cube points -> parameters."""
-        x = np.clip(x, 0.0, 1.0)
+        """(..., n) unit-cube points -> parameters (..., n_all)."""
+        x = np.asarray(x, dtype=float)
+        full = np.zeros(x.shape[:-1] + (len(self.bounds),))
+        full[..., self.free] = np.clip(x, 0.0, 1.0)
         lo, hi = self.bounds[:, 0], self.bounds[:, 1]
-        lin = lo + x * (hi - lo)
+        lin = lo + full * (hi - lo)
         if not self.log.any():
             return lin
         llo = np.log(self._log_lo())
-        geo = np.exp(llo + x * (np.log(np.maximum(hi, 1e-300)) - llo))
-        return np.where(self.log, geo, lin)
+        geo = np.exp(llo + full * (np.log(np.maximum(hi, 1e-300)) - llo))
+        return np.where(self.log & self.free, geo, lin)
 
-    def to_unit(self, p: np.ndarray) -> np.ndarray:
-        """Parameters -> unit-cube points (inverse of to_params inside bounds)."""
+    def position(self, p: np.ndarray) -> np.ndarray:
+        """Parameters (..., n_all) -> their place in [0, 1] between their
+        bounds (..., n_all); 0 for a fixed one."""
         lo, hi = self.bounds[:, 0], self.bounds[:, 1]
         with np.errstate(divide="ignore", invalid="ignore"):
             lin = np.where(hi > lo, (p - lo) / (hi - lo), 0.0)
             llo = np.log(self._log_lo())
             geo = (np.log(np.maximum(p, 1e-300)) - llo) / (np.log(np.maximum(hi, 1e-300)) - llo)
-        return np.clip(np.where(self.log, geo, lin), 0.0, 1.0)
+        return np.clip(np.where(self.log & self.free, geo, lin), 0.0, 1.0)
+
+    def to_unit(self, p: np.ndarray) -> np.ndarray:
+        """Parameters (..., n_all) -> unit-cube points (..., n): the inverse
+        of to_params inside the bounds."""
+        return self.position(p)[..., self.free]
