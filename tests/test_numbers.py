@@ -35,3 +35,10 @@ def test_cells_and_spreads():
     assert cell("nan") == "n/a" and cell(True) == "yes"
     assert with_spread(45.4136, 0.048) == "45.414 (0.048)"
     assert with_spread(0.001891, 0.0) == "0.001891" and with_spread(0.02752, 3.5e-18) == "0.02752"
+
+
+def test_small_shares():
+    from fvd_bridge.report.numbers import small_share
+
+    assert small_share(4.6e-9) == "<0.01%" and small_share(-2e-6) == "-<0.01%"
+    assert small_share(0.026) == "2.6%" and small_share(0.0) == "0%"

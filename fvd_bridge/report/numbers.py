@@ -112,3 +112,11 @@ def with_spread(value, spread) -> str:
     if spread is None or not math.isfinite(float(spread)) or abs(float(spread)) <= 1e-6 * abs(float(value)):
         return rounded(value)
     return f"{rounded(value, spread)} ({rounded(spread, digits=2)})"
+
+
+def small_share(x, smallest: float = 1e-4) -> str:
+    """``share``, but a ratio below ``smallest`` in magnitude as '<0.01%' (a
+    gain of 5e-9 is nothing a reader weighs, not '0.00000050%')."""
+    if x is not None and math.isfinite(float(x)) and 0.0 < abs(float(x)) < smallest:
+        return f"<{share(smallest, digits=1)}" if x > 0 else f"-<{share(smallest, digits=1)}"
+    return share(x)

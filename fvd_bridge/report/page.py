@@ -18,11 +18,12 @@ import glob
 import json
 import os
 import re
+import shlex
 from html import escape
 
 import numpy as np
 
-from .. import __version__
+from .._version import __version__
 from ..calibration import Calibration, common_tests, same_data
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
@@ -32,21 +33,70 @@ from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
-from .html import calibration_table, short, table, zero_table
+from .html import NOTE_CHARS, calibration_table, table, zero_table
+from .numbers import cell, rounded, share, small_share
 
 STYLE = """body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
-table.fvd{border-collapse:collapse;margin:.6em 0 1.2em}table.fvd td,table.fvd th{border:1px solid #ccc;
-padding:.2em .6em;text-align:left}table.fvd caption{text-align:left;font-weight:600;padding:.3em 0}
-.pass{color:#176b2c}.fail{color:#b00020;font-weight:600}img{max-width:100%;border:1px solid #eee}
-figure{margin:.5em 0 1.5em}figcaption{color:#555;font-size:.9em}section.device{border-top:2px solid #336;
-margin-top:2em}"""
+.scroll{overflow-x:auto;max-width:100%;margin:.6em 0 1.2em}table.fvd{border-collapse:collapse}
+table.fvd{font-size:.92em}table.fvd td,table.fvd th{border:1px solid #ccc;padding:.2em .5em;text-align:left;
+vertical-align:top}table.fvd td{white-space:nowrap}table.fvd td.note{white-space:normal;min-width:14em}
+table.fvd caption{text-align:left;font-weight:600;padding:.3em 0;white-space:normal}
+.pass{color:#176b2c}.fail{color:#b00020;font-weight:600}.na{color:#666}
+img{max-width:100%;border:1px solid #eee}figure{margin:.5em 0 1.5em}figcaption{color:#444;font-size:.9em}
+section.device,section.diagnosis,section#series{border-top:2px solid #336;margin-top:2em}
+p.answer{font-size:1.1em;background:#f3f6fb;border-left:4px solid #336;padding:.5em .8em}
+pre.next{background:#f6f6f6;padding:.5em .8em;white-space:pre-wrap;word-break:break-all}"""
 
 
 def _image(path: str, caption: str) -> str:
+    """A figure embedded as base64 PNG, with its caption: what to look at."""
     with open(path, "rb") as fh:
         data = base64.b64encode(fh.read()).decode("ascii")
     return (f"<figure><img alt='{escape(caption)}' src='data:image/png;base64,{data}'>"
-            f"<figcaption>{escape(caption)}</figcaption></figure>")
+            f"<figcaption>{escape(caption)} ({escape(os.path.basename(path))})</figcaption></figure>")
+
+
+#: what to look at in each figure a folder may hold, by its file name's pattern
+CAPTIONS = (
+    (r"loops_(?P<what>.+)_law(?P<spec>.+)\.png",
+     "law {spec} over the measured loops of {what}: force against displacement, against velocity and in "
+     "time; look where the model's line leaves the measurement (at the reversals, at the peaks, late cycles)"),
+    (r"of_bars\.png", "each model's OF per device (top) and its sigma over runs (bottom): a low, even bar is "
+                      "a model that fits every device; a tall sigma, a fit that depends on its start"),
+    (r"pareto\.png", "mean OF against the robustness index beta_r over the devices: the non-dominated models "
+                     "are the choices (lower-left is better)"),
+    (r"dispersion_law(?P<spec>.+)\.png", "law {spec}: each parameter's deviation from the series' mean per "
+                                         "device: the production scatter of the identified properties"),
+    (r"histogram_law(?P<spec>.+)\.png", "law {spec}: the calibrated quantities over the series, with the "
+                                        "robust fences: a bar beyond a fence is an outlier device"),
+    (r"acceptance\.png", "each device's force at the design velocity against the nominal band: a point outside "
+                         "the band fails"),
+    (r".*_where(_final)?\.png", "where the model fails: the residual in time, against displacement and velocity, "
+                                "on the loops and per cycle, beside the noise band; the candidates' OF (red: "
+                                "credited). Look for structure beyond the band"),
+    (r".*_ladder\.png", "the ladder: the OF after each effect added, against the noise floor"),
+    (r".*_compare\.png", "each calibrated model's force on the record it was not fitted to"),
+    (r"damper_hysteresis\.png", "the story-1 damper's force against its deformation for each model: loops of "
+                                "like size mean the model choice does not change the damper's work"),
+    (r"drift_profiles\.png", "peak interstory drift and floor acceleration per story, each model against the "
+                             "bare frame (dashed): the dampers' effect is the gap to the dashed line"),
+    (r"histories\.png", "roof displacement and the story-1 damper force in time: look at the peaks and the "
+                        "decay after the strong motion"),
+)
+
+
+def _caption(path: str) -> str:
+    """The caption of a figure by its file name (``CAPTIONS``); its name when none fits."""
+    name = os.path.basename(path)
+    for pattern, text in CAPTIONS:
+        found = re.fullmatch(pattern, name)
+        if found:
+            return text.format(**found.groupdict())
+    return name
+
+
+def _figure(path: str) -> str:
+    return _image(path, _caption(path))
 
 
 def _record(test: dict):
@@ -110,54 +160,129 @@ def _best(cals: list, records: dict) -> tuple:
     return cals[0], "fitted to different tests: not ranked, the first file's"
 
 
+def _floor(records: dict) -> float | None:
+    """The OF the records' force noise alone gives (``fit.noise_floor``), the
+    mean over the tests as the OF is; None without records."""
+    floors = [noise_floor(force_noise(rec.F), rec.F) for rec in records.values() if rec is not None]
+    return float(np.mean(floors)) if floors else None
+
+
+#: an OF within this many times the noise floor: the model explains the record down to its noise
+AT_FLOOR = 1.5
+#: within this many: close to the noise, little left to explain
+NEAR_FLOOR = 3.0
+
+
+def _how_good(of: float, floor: float | None) -> str:
+    """The OF against the noise floor, in words."""
+    if floor is None or floor <= 0:
+        return f"OF {rounded(of)} (the records are not found: no noise floor to hold it against)"
+    ratio = of / floor
+    said = (f"OF {rounded(of)}, {rounded(ratio, digits=2)}x the noise floor of its record(s) ({rounded(floor)}, "
+            f"the OF the measurement noise alone gives)")
+    if ratio <= AT_FLOOR:
+        return said + ": it explains the record down to the measurement noise"
+    if ratio <= NEAR_FLOOR:
+        return said + ": close to the noise, little is left to explain"
+    return said + ": it misses part of the record (where it fails, below; diagnose shows what is missing)"
+
+
+#: a record block's reading options as the command line spells them
+OPTIONS = (("mat_var", "--mat-var"), ("columns", "--columns"), ("units", "--units"), ("dt", "--dt"),
+           ("force_sign", "--force-sign"), ("sg_window", "--sg-window"), ("sg_order", "--sg-order"))
+
+
+def _reading(block: dict) -> list:
+    """The command-line words that read a calibration's record as it was read."""
+    reading, words = block.get("reading") or {}, []
+    for key, option in OPTIONS:
+        value = reading.get(key)
+        if value in (None, {}, ""):
+            continue
+        text = ",".join(f"{k}={v}" for k, v in value.items()) if isinstance(value, dict) else str(value)
+        words += [option, shlex.quote(text)]
+    if block.get("window"):
+        words += ["--window", ",".join(rounded(x, digits=6) for x in block["window"])]
+    return words
+
+
+def _next_commands(cal, device: str, shown: str, out: str, floor: float | None) -> list:
+    """What to run next with the calibration: export it (to OpenSees where a
+    material holds it, else to an FMU); where its OF is beyond the noise,
+    diagnose what it misses, on the same records read the same way."""
+    path = shlex.quote(os.path.join(shown, os.path.relpath(cal.path, out))) if cal.path else "PARAMS.yaml"
+    refusal = cal.model.exports(cal.named())
+    target, output = ("opensees", "damper.py") if not refusal["opensees"] else ("fmu", "damper.fmu")
+    lines = [f"fvd-bridge export {target} {path} -o {output}"]
+    blocks = [t.get("record") or {} for t in cal.tests]
+    if (floor is None or cal.of > NEAR_FLOOR * floor) and all(b.get("file") for b in blocks) and blocks:
+        files = [shlex.quote(b["file"]) for b in blocks]
+        one = ["--device", shlex.quote(device)] if len(files) > 1 else []
+        where = shlex.quote(os.path.join(os.path.dirname(os.path.normpath(shown)) or ".", f"diagnose_{device}"))
+        lines.append(" ".join(["fvd-bridge diagnose", *files, *one, *_reading(blocks[0]),
+                               f"--law {cal.spec}", f"--out {where}"]))
+    return lines
+
+
+def _next(lines: list) -> str:
+    return ("<h3>next</h3><pre class='next'>" + "\n".join(escape(line) for line in lines) + "</pre>") if lines else ""
+
+
 def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance: float) -> str:
     """The device's acceptance table: its tests checked against the series'
-    best model (``_best``: the lowest OF on the same data) as the nominal."""
+    best model (``_best``: the lowest OF on the same data) as the nominal;
+    every row names its rule and source; a rule that does not apply says why."""
     best, chosen = _best(cals, records)
     rows, notes = [], []
+    size = len(series[best.spec])
     for test in best.tests:
         rec = records.get(test["name"])
         if rec is None:
             notes.append(f"{test['name']}: its record file is not found; no acceptance checks")
             continue
-        nominal = _series_force(series[best.spec], rec)
-        for chk in checks_of_test(rec, nominal, tolerance):
-            rows.append((chk, f"{chk.deviation:.1%}"))
+        rows += checks_of_test(rec, _series_force(series[best.spec], rec), tolerance, size)
+    caption = (f"acceptance of {device}: tolerance +-{share(tolerance)}; nominal force: law {best.spec} ({chosen}) "
+               f"of the series ({size} device(s)) at each test's velocity")
+    if not rows:
+        return f"<h3>acceptance</h3><p>{escape(caption)}: no check made.</p>" + "".join(f"<p>{escape(n)}</p>" for n in notes)
+    verdict_css = {"pass": "pass", "FAIL": "fail", "not applicable": "na"}
     body = "".join(
-        f"<tr><td>{escape(c.test)}</td><td>{escape(c.what)}</td><td>{short(c.measured)}</td>"
-        f"<td>{short(c.reference)}</td><td>{dev}</td><td class='{'pass' if c.passed else 'fail'}'>"
-        f"{'pass' if c.passed else 'FAIL'}</td><td>{escape(c.rule)}</td></tr>" for c, dev in rows)
-    caption = (f"acceptance of {device}: tolerance +-{tolerance:.0%}; nominal force: law {best.spec} ({chosen}) "
-               f"of the series ({len(series[best.spec])} device(s)) at each test's velocity")
-    out = (f"<table class='fvd acceptance'><caption>{escape(caption)}</caption><thead><tr><th>test</th>"
-           f"<th>check</th><th>measured</th><th>reference</th><th>deviation</th><th>verdict</th><th>rule</th>"
-           f"</tr></thead><tbody>{body}</tbody></table>")
-    return out + "".join(f"<p>{escape(n)}</p>" for n in notes)
+        f"<tr><td>{escape(c.test)}</td><td class='note'>{escape(c.what)}</td><td>{rounded(c.measured)}</td>"
+        f"<td>{rounded(c.reference)}</td><td>{'-' if c.deviation is None else share(c.deviation)}</td>"
+        f"<td class='{verdict_css[c.verdict]}'>{c.verdict}</td><td class='note'>{escape(c.rule)} "
+        f"({escape(c.source)}){escape('. Not applicable: ' + c.why_not if c.why_not else '')}</td></tr>"
+        for c in rows)
+    out = (f"<div class='scroll'><table class='fvd acceptance'><caption>{escape(caption)}</caption><thead><tr>"
+           f"<th>test</th><th>check</th><th>measured</th><th>reference</th><th>deviation</th><th>verdict</th>"
+           f"<th>rule (source)</th></tr></thead><tbody>{body}</tbody></table></div>")
+    return "<h3>acceptance</h3>" + out + "".join(f"<p>{escape(n)}</p>" for n in notes)
 
 
-def _tests_table(cal, records: dict) -> str:
-    """Each test's range, its noise-floor OF (the record's force noise alone) and the model's OF."""
+def _tests_table(cals: list, records: dict) -> str:
+    """Each test's range, its noise-floor OF (the record's force noise alone) and each model's OF on it."""
     rows = []
-    for t in cal.tests:
+    for t in cals[0].tests:
         block, rng, rec = t.get("record") or {}, t.get("range") or {}, records.get(t["name"])
         floor = None if rec is None else noise_floor(force_noise(rec.F), rec.F)
-        rows.append([t["name"], block.get("samples", "-"), short(block.get("dt")), short(rng.get("d")), short(rng.get("v")),
-                     short(rng.get("f")), short((block.get("peaks") or {}).get("F")), short(floor, 3), short(t.get("of"))])
+        ofs = [next((u.get("of") for u in c.tests if u["name"] == t["name"]), None) for c in cals]
+        rows.append([t["name"], block.get("samples", "-"), rounded(block.get("dt")), rounded(rng.get("d")),
+                     rounded(rng.get("v")), rounded(rng.get("f")), rounded((block.get("peaks") or {}).get("F")),
+                     rounded(floor, digits=3), *[rounded(x) for x in ofs]])
     return table(["test", "samples", "dt [s]", "stroke [mm]", "velocity [mm/s]", "frequency [Hz]",
-                  "peak force [kN]", "noise-floor OF", f"OF of {cal.spec}"], rows, "the tests")
+                  "peak force [kN]", "noise-floor OF", *[f"OF of law {c.spec}" for c in cals]], rows,
+                 "the tests: their range, the OF their noise alone gives, and each model's OF on them")
 
 
-def _where_lists(cals: list, records: dict) -> str:
-    """Where each model fails on each test: diagnose's findings (``diagnose.where``)."""
+def _where_list(cal, records: dict) -> str:
+    """Where the model fails on each test: diagnose's findings (``diagnose.where``)."""
     parts = []
-    for cal in cals:
-        for name, rec in records.items():
-            if rec is None:
-                continue
-            F = cal.force(rec, test=cal.test_named(name))
-            lines = summary_lines(analyse(rec, F), force_noise(rec.F))
-            parts.append(f"<p><b>{escape(cal.spec)} on {escape(name)}</b></p><ul>"
-                         + "".join(f"<li>{escape(line)}</li>" for line in lines) + "</ul>")
+    for name, rec in records.items():
+        if rec is None:
+            continue
+        F = cal.force(rec, test=cal.test_named(name))
+        lines = summary_lines(analyse(rec, F), force_noise(rec.F))
+        parts.append(f"<p><b>law {escape(cal.spec)} on {escape(name)}</b></p><ul>"
+                     + "".join(f"<li>{escape(line)}</li>" for line in lines) + "</ul>")
     return "\n".join(parts)
 
 
@@ -179,53 +304,75 @@ def _exports(out: str, device: str, cals: list, records: dict) -> str:
             except InputError as exc:  # OpenSees has no material for it: the FMU is the way
                 rows.append([cal.spec, name, "none", "-", "-", str(exc).split(": ", 1)[-1]])
                 continue
-            rows.append([cal.spec, name, "exact" if res.exact else "approximate", short(res.of, 3),
-                         short(res.bound, 3), "within its bound" if res.ok else "OUTSIDE its bound"])
+            rows.append([cal.spec, name, "exact" if res.exact else "approximate", rounded(res.of, digits=3),
+                         rounded(res.bound, digits=3), "within its bound" if res.ok else "OUTSIDE its bound"])
     parts = [table(["model", "test", "OpenSees mapping", "OF(OpenSees vs model)", "bound", "verdict"], rows,
                    "each model's OpenSees material driven with the test's motion (kN, mm, s; eq. 18 with the "
-                   "model's force as reference)") if rows else
-             "<p>the tests' record files are not found: no OpenSees fidelity check</p>"]
+                   "model's force as reference)") if rows else ""]
     made = []
     for e in exports_of(out):
         if e.get("device") == device:
             check = e.get("check") or {}
             made.append([e["kind"], e["model"], os.path.basename(e["file"]), e["units"],
-                         check.get("record", "not checked"), short(check.get("of"), 3), short(check.get("bound"), 3),
-                         e["written"]])
+                         check.get("record", "not checked"), rounded(check.get("of"), digits=3),
+                         rounded(check.get("bound"), digits=3), e["written"]])
     if made:
         parts.append(table(["export", "model", "file", "units", "checked on", "OF(export vs model)", "bound",
                             "written"], made, "the exports made (fvd-bridge export)"))
-    return "\n".join(parts)
+    return ("<h3>exports</h3>" + "\n".join(p for p in parts if p)) if any(parts) else ""
 
 
-def _loop_figures(out: str, device: str, cals: list) -> list:
-    """The device's loop figures, by the names ``campaign.outputs`` gives them."""
-    names = [f"loops_{t['name'] if len(c.tests) == 1 else device + '_' + t['name']}_law{c.spec}.png"
-             for c in cals for t in c.tests]
+def _loop_figures(out: str, device: str, cal) -> list:
+    """The calibration's loop figures, by the names ``campaign.outputs`` gives them."""
+    names = [f"loops_{t['name'] if len(cal.tests) == 1 else device + '_' + t['name']}_law{cal.spec}.png"
+             for t in cal.tests]
     return [p for p in (os.path.join(out, "figures", n) for n in names) if os.path.isfile(p)]
 
 
-def _device_section(out: str, device: str, cals: list, series: dict, tolerance: float) -> str:
-    figures = _loop_figures(out, device, cals)
+def _device_section(out: str, shown: str, device: str, cals: list, series: dict, tolerance: float,
+                    diagnosed: bool = False) -> str:
+    """One device, the answer first: the model to use and how good it is
+    against the noise floor, its parameters, its loops, where it fails, the
+    next command; then the other models, the tests, acceptance and exports."""
     records = {t["name"]: _record(t) for t in cals[0].tests}
+    best, chosen = _best(cals, records)
+    floor = _floor(records)
+    lead = ("the calibration diagnose wrote" if diagnosed and len(cals) == 1 else
+            "the best of the calibrations diagnose wrote" if diagnosed else "use")
+    why = f"{chosen} of {len(cals)} models" if len(cals) > 1 else "the one model calibrated"
     parts = [f"<section class='device' id='device-{escape(device)}'><h2>device {escape(device)}</h2>",
-             _tests_table(cals[0], records), "<h3>fits</h3>", *[calibration_table(c) for c in cals],
-             "<h3>acceptance</h3>", _acceptance(device, cals, series, records, tolerance),
-             "<h3>where each model fails</h3>", _where_lists(cals, records),
-             "<h3>exports</h3>", _exports(out, device, cals, records), "<h3>loops</h3>",
-             *[_image(p, os.path.basename(p)) for p in figures], "</section>"]
-    return "\n".join(parts)
+             f"<p class='answer'><b>{escape(lead.capitalize())} law {escape(best.spec)}</b> ({escape(why)}): "
+             f"{escape(_how_good(best.of, floor))}.</p>",
+             calibration_table(best), *[_figure(p) for p in _loop_figures(out, device, best)]]
+    where = _where_list(best, records)
+    if where:
+        parts += [f"<h3>where law {escape(best.spec)} fails</h3>", where]
+    parts.append(_next(_next_commands(best, device, shown, out, floor)))
+    others = [c for c in cals if c is not best]
+    if others:
+        parts.append("<h3>the other models</h3>")
+        for cal in others:
+            parts += [calibration_table(cal), *[_figure(p) for p in _loop_figures(out, device, cal)]]
+    parts += ["<h3>the tests</h3>", _tests_table(cals, records),
+              _acceptance(device, cals, series, records, tolerance), _exports(out, device, cals, records), "</section>"]
+    return "\n".join(p for p in parts if p)
 
 
 def _series_section(out: str) -> str:
+    """The series, after its devices: each model's mean OF and robustness,
+    the Pareto front, the dispersion, a production campaign's statistics;
+    nothing for fewer than two devices (no scatter over devices to show)."""
     summary = _json(os.path.join(out, "summary.json"))
     if summary is None:
         return ""
     devices = [d["name"] if isinstance(d, dict) else d for d in summary.get("devices", [])]
+    if len(devices) < 2:
+        return ""
     rows = []
     for spec, m in summary.get("models", {}).items():
-        rows.append([spec, short(m.get("of_mean") if not isinstance(m.get("of_mean"), list) else
-                              sum(m["of_mean"]) / len(m["of_mean"])), short(m.get("beta")),
+        of = m.get("of_mean")
+        of = sum(of) / len(of) if isinstance(of, list) else of
+        rows.append([f"law {spec}", rounded(of), rounded(m.get("beta"), digits=3),
                      "yes" if m.get("non_dominated") else "", "; ".join(m.get("notes") or [])])
     figs = [p for name in ("of_bars.png", "pareto.png") for p in [os.path.join(out, "figures", name)]
             if os.path.isfile(p)]
@@ -234,10 +381,9 @@ def _series_section(out: str) -> str:
     figs += [p for p in [os.path.join(out, "figures", "acceptance.png")] if os.path.isfile(p)]
     production = [_csv_table(out, name, caption) for name, caption in PRODUCTION_TABLES]
     return "\n".join(["<section id='series'><h2>the series</h2>",
-                      table(["model", "mean OF", "robustness beta_r", "Pareto front", "notes"], rows,
-                            f"{len(devices)} device(s): {', '.join(devices)}"),
-                      *[p for p in production if p],
-                      *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
+                      table(["model", "mean OF", "robustness index beta_r", "Pareto front", "notes"], rows,
+                            f"{len(devices)} devices: {', '.join(devices)}"),
+                      *[p for p in production if p], *[_figure(p) for p in figs], "</section>"])
 
 
 #: a production campaign's tables (``campaign.production``), as the report shows them
@@ -247,59 +393,73 @@ PRODUCTION_TABLES = (("production.csv", "production statistics of the calibrated
 
 
 def _csv_table(out: str, name: str, caption: str) -> str:
-    """A CSV file of the folder as a table ('' when it is not there)."""
+    """A CSV file of the folder as a table, its numbers rounded (``numbers.cell``), its columns of long
+    notes listed under it (the rows stay one line high); '' when it is not there or holds no row."""
     path = os.path.join(out, name)
     if not os.path.isfile(path):
         return ""
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
     if len(rows) < 2:
-        return f"<p>{escape(caption)}: none</p>"
-    return table(rows[0], rows[1:], caption)
+        return ""
+    header, body = rows[0], rows[1:]
+    notes = [j for j in range(1, len(header)) if any(len(r[j]) > NOTE_CHARS and " " in r[j] for r in body if j < len(r))]
+    keep = [j for j in range(len(header)) if j not in notes]
+    listed = [f"<li><b>{escape(r[0])}</b>, {escape(header[j])}: {escape(r[j])}</li>"
+              for r in body for j in notes if j < len(r) and r[j]]
+    out = table([header[j] for j in keep], [[cell(r[j]) if j < len(r) else "" for j in keep] for r in body], caption)
+    return out + (f"<ul class='notes'>{''.join(listed)}</ul>" if listed else "")
 
 
 def _diagnosis_sections(out: str) -> str:
+    """Each diagnosis, its verdict first: the verdict, the model's OF against
+    the noise floor, the next command; then the candidates, each named as the
+    model it is, the force zero and the figures."""
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_diagnose.json"))):
         rep = _json(path)
-        rows = [[c["effect"], short(c["of"]), f"{c['improvement']:.1%}", "yes" if c.get("significant") else "no",
-                 c.get("reason", "")] for c in rep.get("all_candidates", [])]
+        model = rep["model"]
+        rows = [[c.get("spec") or f"{model}+{c['effect']}", rounded(c["of"]), small_share(c["improvement"]),
+                 "yes" if c.get("significant") else "no", c.get("reason", "")] for c in rep.get("all_candidates", [])]
         base = path[:-len("_diagnose.json")]
         figs = [p for p in (f"{base}_where.png", f"{base}_where_final.png", f"{base}_ladder.png") if os.path.isfile(p)]
-        parts += [f"<section class='diagnosis'><h2>diagnosis of {escape(rep['model'])} on {escape(rep['record'])}</h2>",
-                  f"<p>{escape(rep.get('verdict', ''))}</p>",
-                  table(["effect", "OF", "lower by", "credited", "why not"], rows,
-                        f"OF {rep['of']:.5g}, noise floor {rep['noise_floor_of']:.4g}"),
-                  *([zero_table(rep["force_zero"])] if rep.get("force_zero") else []),
-                  *[_image(p, os.path.basename(p)) for p in figs], "</section>"]
-    return "\n".join(parts)
+        files = rep.get("calibrations") or {}
+        best = next((c for c in rep.get("all_candidates", []) if c.get("significant") and c.get("calibration")),
+                    None)
+        target = ("opensees", "damper.py") if best and "opensees" in (best.get("exports") or []) else ("fmu", "damper.fmu")
+        lines = [f"fvd-bridge export {target[0]} {shlex.quote(best['calibration'])} -o {target[1]}"] if best else []
+        parts += [f"<section class='diagnosis'><h2>diagnosis of {escape(model)} on {escape(rep['record'])}</h2>",
+                  f"<p class='answer'><b>Verdict:</b> {escape(rep.get('verdict', ''))}</p>",
+                  f"<p>law {escape(model)} alone: {escape(_how_good(rep['of'], rep.get('noise_floor_of')))}."
+                  + (f" Calibration files written: {escape(', '.join(files.values()))}." if files else "") + "</p>",
+                  _next(lines),
+                  table(["model", "OF", "lower by", "credited", "why (not)"], rows,
+                        f"each effect added to law {model} and refitted (law {model} alone: OF {rounded(rep['of'])}, "
+                        f"noise floor {rounded(rep['noise_floor_of'])})") if rows else "",
+                  zero_table(rep["force_zero"], model) if rep.get("force_zero") else "",
+                  *[_figure(p) for p in figs], "</section>"]
+    return "\n".join(p for p in parts if p)
 
 
 def _compare_sections(out: str) -> str:
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_compare.json"))):
         rep = _json(path)
-        rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", short(m.get("of")),
-                 short(m.get("of_calibration")), short(m.get("peak_force_kN"))] for m in rep.get("models", [])]
+        rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", rounded(m.get("of")),
+                 rounded(m.get("of_calibration")), rounded(m.get("peak_force_kN"))] for m in rep.get("models", [])]
         figure = path[:-len(".json")] + ".png"
         parts += [f"<section class='compare'><h2>calibrated models on {escape(os.path.basename(rep['record']))}</h2>",
                   table(["file", "model", "device", "OF here", "OF on its calibration", "peak force [kN]"], rows,
                         "prediction only (no measured force)" if rep.get("prediction_only") else
                         "best first (OF, eq. 18)"),
-                  *([_image(figure, os.path.basename(figure))] if os.path.isfile(figure) else []), "</section>"]
+                  *([_figure(figure)] if os.path.isfile(figure) else []), "</section>"]
     return "\n".join(parts)
 
 
 def _frame_section(out: str) -> str:
-    summary = _json(os.path.join(out, "frame_summary.json"))
-    if summary is None:
-        return ""
-    figs = sorted(glob.glob(os.path.join(out, "figures", "*.png")))
-    caption = f"{summary.get('building', '')} under {summary.get('motion', '')} (PGA {summary.get('pga_g', 0):.3g} g)"
-    return "\n".join(["<section id='frame'><h2>frame analysis</h2>",
-                      f"<p>{escape(str(summary.get('verdict', '')))}</p>",
-                      _csv_table(out, "frame_table.csv", caption),
-                      *[_image(p, os.path.basename(p)) for p in figs], "</section>"])
+    from .frame_page import frame_section  # the frame analysis' section: its own module
+
+    return frame_section(out)
 
 
 def _tolerance_of_page(path: str) -> float | None:
@@ -317,22 +477,29 @@ def build_report(out: str, tolerance: float | None = None, shown_as: str | None 
     figures) with the acceptance checks at ``tolerance`` (a share; None: the
     one the page there was built with, else ``TOLERANCE``); ``shown_as``: the
     folder the page names (a verb builds it in its staging folder);
-    ``plugins``: the plugin files its calibrations' models need; returns its path."""
+    ``plugins``: the plugin files its calibrations' models need; returns its path.
+
+    The page leads with the answer: a diagnosis' verdict, else each device's
+    model to use; the series' material follows its devices, and only for two
+    devices or more; a section with nothing to show is left out."""
     path = os.path.join(out, "report.html")
     if tolerance is None:
         tolerance = _tolerance_of_page(path) or TOLERANCE
+    shown = shown_as or out
     cals = _calibrations(out, plugins)
     series = _series_nominal(cals)
-    body = [_series_section(out), *[_device_section(out, dev, c, series, tolerance) for dev, c in cals.items()],
-            _diagnosis_sections(out), _compare_sections(out)]
+    diagnoses = _diagnosis_sections(out)
+    body = [diagnoses, *[_device_section(out, shown, dev, c, series, tolerance, bool(diagnoses))
+                         for dev, c in cals.items()],
+            _series_section(out), _compare_sections(out)]
     if not cals and not any(body):
         body.append(_frame_section(out))
-    title = f"fvd_bridge report: {os.path.basename(os.path.abspath(shown_as or out))}"
+    title = f"fvd_bridge report: {os.path.basename(os.path.abspath(shown))}"
+    devices = ("; devices: " + ", ".join(f"<a href='#device-{escape(d)}'>{escape(d)}</a>" for d in cals)) if cals else ""
     page = (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{escape(title)}</title>"
             f"<meta name='fvd-tolerance' content='{tolerance!r}'>"
             f"<style>{STYLE}</style></head><body><h1>{escape(title)}</h1>"
-            f"<p>fvd_bridge {__version__}; units kN, mm, s. Devices: "
-            + ", ".join(f"<a href='#device-{escape(d)}'>{escape(d)}</a>" for d in cals) + "</p>"
+            f"<p>fvd_bridge {__version__}; units kN, mm, s{devices}</p>"
             + "\n".join(b for b in body if b) + "</body></html>")
     with atomic_file(path) as fh:
         fh.write(page)
