@@ -12,8 +12,7 @@ The notebook API (``fvd_bridge.api``)::
 ``dir(fvd_bridge)`` lists the public names.
 """
 
-__version__ = "0.3.0"
-
+from ._version import __version__  # noqa: E402
 from .kernel_cache import configure as _configure_kernel_cache  # noqa: E402
 
 _configure_kernel_cache()  # one cache of the compiled kernels, before any is compiled

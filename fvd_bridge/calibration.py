@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import yaml
 
-from . import __version__
+from ._version import __version__
 from .catalog import catalog_for, plugin_files, recorded_plugins
 from .errors import InputError, option
 from .fit.layout import SEP, Layout

@@ -19,7 +19,8 @@ import warnings
 # figures are written to files, never shown: matplotlib's file backend unless the user chose one
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from . import __version__, kernel_cache, timing  # noqa: E402
+from . import kernel_cache, timing  # noqa: E402
+from ._version import __version__  # noqa: E402
 from .errors import InputError, command_line_words  # noqa: E402
 
 VERBS = ("laws", "inspect", "rig", "calibrate", "campaign", "effects", "diagnose", "compare", "export", "frame",

@@ -19,7 +19,8 @@ import os
 
 import numpy as np
 
-from .. import __version__, timing
+from .. import timing
+from .._version import __version__
 from ..calibration import Calibration
 from ..io.staging import staged_dir, write_csv_rows, write_json
 from ..records.device import as_device

@@ -84,6 +84,8 @@ class Diagnosis:
     agreement: agree.Agreement | None = None  # do the tests agree with one parameter set (several tests)
     zero: zero_mod.Zero | None = None  # the tests' force zero, when an offset-like effect needed it (not exported)
     inputs: dict = field(default_factory=dict, repr=False)  # record, seed, settings, catalog: ladder() and accept()
+    #: the ladder's climb (``ladder.py`` sets it on import: the ladder sits above the diagnosis)
+    _climb = None
 
     def __repr__(self) -> str:
         return f"<Diagnosis {self.spec} on {self.record}: OF {self.of:.4g}; {self.verdict()}>"
@@ -151,11 +153,9 @@ class Diagnosis:
         Ladder
             Each rung's model, OF and gain, and each rung's diagnosis.
         """
-        from .ladder import climb
-
         i = self.inputs
-        return climb(i["record"], self.model, i["seed"], i["settings"], max_rungs, progress, i["catalog"],
-                     self.per_test)
+        return self._climb(i["record"], self.model, i["seed"], i["settings"], max_rungs, progress, i["catalog"],
+                           self.per_test)
 
     @property
     def spec(self) -> str:

@@ -89,3 +89,6 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
                               dict(zip(diag.fit.names, diag.fit.units)), best.explanation, best.effect))
     lad.wall_s = time.perf_counter() - t0
     return lad
+
+
+Diagnosis._climb = staticmethod(climb)  # Diagnosis.ladder() (core.py)

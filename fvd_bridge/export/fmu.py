@@ -51,7 +51,7 @@ from fmpy import read_model_description, simulate_fmu
 from fmpy.build import build_platform_binary
 from fmpy.validation import validate_fmu
 
-from .. import __version__
+from .._version import __version__
 from ..effects.catalog import EFFECTS
 from ..errors import InputError, positive
 from ..fit.objective import objective

@@ -111,6 +111,9 @@ def record_from_arrays(t, d, F, v=None, units=None, name: str = "record") -> Rec
     return rec
 
 
+Record._from_arrays = staticmethod(record_from_arrays)  # Record.from_arrays (record.py)
+
+
 def cut(record: Record, t0: float, t1: float) -> Record:
     """The samples with t0 <= t <= t1 [s] (at least one), the window kept in the provenance."""
     keep = np.flatnonzero((record.t >= t0) & (record.t <= t1))

@@ -43,6 +43,9 @@ class Record:
 
     #: units of the fields
     UNITS = {"t": "s", "d": "mm", "F": "kN", "v": "mm/s", "a": "mm/s^2"}
+    #: the builder of ``from_arrays``: ``records.readers`` sets it on import (the
+    #: reader sits above the record and imports it; the record never imports the reader)
+    _from_arrays = None
 
     def __post_init__(self):
         for key in ("t", "d", "F", "v", "a"):
@@ -75,9 +78,7 @@ class Record:
         name : str
             The record's name in reports and exports.
         """
-        from .readers import record_from_arrays
-
-        return record_from_arrays(t, d, F, v, units, name)
+        return cls._from_arrays(t, d, F, v, units, name)
 
     @property
     def dt(self) -> float:

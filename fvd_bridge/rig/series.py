@@ -9,7 +9,7 @@ import tempfile
 import numpy as np
 import yaml
 
-from .. import __version__
+from .._version import __version__
 from ..errors import InputError
 from ..records.writers import write_csv
 from .device import PARAMETERS, Device
