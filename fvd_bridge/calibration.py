@@ -559,13 +559,18 @@ class Calibration:
         values = {**self.named(), **{f"{n}{SEP}{t['name']}": v for t in self.tests
                                      for n, v in (t.get("parameters") or {}).items()}}
         units = dict(zip(self.model.names, self.model.units))
-        out = [f"{n} = {values[n]:.5g} {units[n.split(SEP)[0]]} (fixed by the caller)"
+        from .report.numbers import interval, rounded  # numbers for people: rounded to the stderr
+
+        def unit(name):
+            return "" if units.get(name.split(SEP)[0], "-") == "-" else f" {units[name.split(SEP)[0]]}"
+
+        out = [f"{n} = {rounded(values[n])}{unit(n)} (fixed by the caller)"
                if e["ci95"][0] == e["ci95"][1] else
-               f"{n} = {values[n]:.5g} {units[n.split(SEP)[0]]}, 95% [{e['ci95'][0]:.5g}, {e['ci95'][1]:.5g}]"
-               + (f" (stderr {e['stderr']:.2g})" if e.get("stderr") is not None else "")
+               f"{n} = {rounded(values[n], e.get('stderr'))}{unit(n)}, 95% {interval(*e['ci95'], e.get('stderr'))}"
+               + (f" (stderr {rounded(e['stderr'], digits=2)})" if e.get("stderr") is not None else "")
                for n, e in given.items() if n in values]
-        out += [f"{n} = {d['value']:.5g} {d['unit']}, 95% [{d['ci95'][0]:.5g}, {d['ci95'][1]:.5g}] "
-                f"(stderr {d['stderr']:.2g})" for n, d in (self.intervals.get("derived") or {}).items()]
+        out += [f"{n} = {rounded(d['value'], d['stderr'])} {d['unit']}, 95% {interval(*d['ci95'], d['stderr'])} "
+                f"(stderr {rounded(d['stderr'], digits=2)})" for n, d in (self.intervals.get("derived") or {}).items()]
         out += [f"not identified: {line}" for line in self.intervals.get("not_identified") or []]
         return out + ([f"note: {self.intervals['note']}"] if self.intervals.get("note") else [])
 

@@ -1,9 +1,15 @@
 """Terminal report of a campaign: Table A.7-like summary, Pareto set, warnings.
 
-Columns are as wide as their longest entry: no name is cut, no two columns touch.
+Columns are as wide as their longest entry: no name is cut, no two columns
+touch.  Numbers go through ``report.numbers``: a mean rounded to its sigma
+over runs (``with_spread``; the mean alone where the runs agree), the
+robustness index to three digits.  The robustness index and the Pareto set
+are series material: with one device they are not printed.
 """
 
 from __future__ import annotations
+
+from ..report.numbers import rounded, with_spread
 
 GAP = 2  # spaces between columns
 
@@ -19,7 +25,7 @@ def format_report(summary: dict) -> str:
     quantities = (["OF"] + [f"{n} [{u}]" for m in models.values() for n, u in zip(m["names"], m["units"])]
                   + [row[0] for m in models.values() for row in _test_rows(m, len(devices))])
     w_model, w_q = _width(labels, 5) + GAP, _width(quantities, 8) + GAP
-    w_cell = max(_width(devices), 23) + GAP  # '   1.234e+05 ( 1.2e+03)'
+    w_cell = max(_width(devices), 20) + GAP  # '1.2345e+05 (1.2e+03)'
     lines = ["", "Mean (sigma) over runs of OF and parameters (cf. paper Table A.7)", ""]
     head = f"{'model':<{w_model}}{'quantity':<{w_q}}" + "".join(f"{d:>{w_cell}}" for d in devices)
     lines += [head, "-" * len(head)]
@@ -29,8 +35,7 @@ def format_report(summary: dict) -> str:
                  for j, (n, u) in enumerate(zip(m["names"], m["units"]))]
         for k, (q, mean, sigma) in enumerate(rows):
             label = f"law {spec}" if k == 0 else ""
-            cells = "".join(f"{f'{mean[i]:.4g} ({sigma[i]:.2g})' if mean[i] is not None else '':>{w_cell}}"
-                            for i in range(len(devices)))
+            cells = "".join(f"{with_spread(mean[i], sigma[i]):>{w_cell}}" for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
     lines += [""] + _pareto_lines(models, w_model, len(devices))
     ivals = summary.get("intervals") or {}
@@ -64,15 +69,19 @@ def _test_rows(m: dict, n_devices: int) -> list:
 def _pareto_lines(models: dict, w_model: int, n_devices: int) -> list:
     """Per model: mean OF, the robustness index beta_r (paper eq. 23; 'beta_r', not a
     law's parameter beta) and the Pareto flag; the Pareto set; the robustness notes."""
-    lines = [f"{'model':<{w_model}}{'mean OF':>10}{'beta_r':>10}  Pareto  (beta_r: robustness index over devices)"]
-    for spec, m in models.items():
-        lines.append(f"{'law ' + spec:<{w_model}}{m['of_overall']:>10.4f}{m['beta']:>10.4f}  "
-                     f"{'non-dominated' if m['non_dominated'] else ''}")
-    front = [s for s, m in models.items() if m["non_dominated"]]
-    lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
     if n_devices < 2:
-        lines.append("one device: beta_r measures the scatter over devices, so it is 0 here and the Pareto "
-                     "set ranks accuracy alone; calibrate several devices of the series to compare robustness")
+        lines = [f"{'model':<{w_model}}{'OF':>10}  (best first)"]
+        lines += [f"{'law ' + spec:<{w_model}}{rounded(m['of_overall']):>10}"
+                  for spec, m in sorted(models.items(), key=lambda item: item[1]["of_overall"])]
+        lines.append("one device: beta_r (the robustness index) and the Pareto front measure the scatter over "
+                     "devices, so they are not shown; calibrate several devices of the series to compare robustness")
+    else:
+        lines = [f"{'model':<{w_model}}{'mean OF':>10}{'beta_r':>10}  Pareto  (beta_r: robustness index over devices)"]
+        for spec, m in models.items():
+            lines.append(f"{'law ' + spec:<{w_model}}{rounded(m['of_overall']):>10}{rounded(m['beta'], digits=3):>10}  "
+                         f"{'non-dominated' if m['non_dominated'] else ''}")
+        front = [s for s, m in models.items() if m["non_dominated"]]
+        lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
     notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
     if notes:
         lines += ["", "Robustness notes:"] + [f"  law {spec}, {note}" for spec, note in notes]
