@@ -25,6 +25,7 @@ import numpy as np
 
 from .._version import __version__
 from ..calibration import Calibration, common_tests, same_data
+from ..campaign import acceptance as series_acceptance
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
@@ -389,7 +390,7 @@ def _series_section(out: str) -> str:
 #: a production campaign's tables (``campaign.production``), as the report shows them
 PRODUCTION_TABLES = (("production.csv", "production statistics of the calibrated quantities"),
                      ("outliers.csv", "outliers: devices beyond the robust fences"),
-                     ("acceptance.csv", "the series' acceptance: force at the design velocity against the band"))
+                     ("acceptance.csv", f"the series' acceptance: {series_acceptance.RULE} ({series_acceptance.SOURCE})"))
 
 
 def _csv_table(out: str, name: str, caption: str) -> str:
