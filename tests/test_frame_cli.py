@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import CLI, cli_env
+from fvd_bridge.report.numbers import rounded
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +55,8 @@ def test_frame_compares_laws_and_the_series(series, tmp_path):
     assert {r["model"] for r in drift} == {"1", "2"} and all(int(r["devices"]) == 2 for r in drift)
     assert all(float(r["min"]) <= float(r["mean"]) <= float(r["max"]) for r in drift)
     summary = json.load(open(out / "frame_summary.json"))
-    assert html.escape(summary["verdict"]) in (out / "report.html").read_text()
+    page = (out / "report.html").read_text()
+    assert all(html.escape(line) in page for line in summary["verdict_lines"])
     assert summary["verdict"].startswith("best-fitting model")
     for name in ("drift_profiles.png", "damper_hysteresis.png", "histories.png"):
         assert (out / "figures" / name).is_file()
@@ -183,18 +185,20 @@ def test_frame_ranks_models_on_the_same_data_only(one_and_two_tests, tmp_path):
                     "--no-figures")
         assert res.returncode == 0, res.stderr[-2000:]
         summary = json.load(open(tmp_path / name / "frame_summary.json"))
-        assert f"verdict: {summary['verdict']}" in res.stdout
+        assert all(f"  - {line}" in res.stdout for line in summary["verdict_lines"])
+        assert summary["verdict"] == "; ".join(summary["verdict_lines"])
         return summary
 
     common = run("common", one, two)
     of_there = {"1": cals["law1_slow"].of_on(slow), "2": cals["law2_both"].of_on(slow)}
     best = min(of_there, key=of_there.get)
     assert common["verdict"].startswith(f"best-fitting model on the test sn1_slow, which every model was fitted on: "
-                                        f"law {best} (mean OF there {of_there[best]:.4g})")
+                                        f"law {best} (mean OF there {rounded(of_there[best])})")
     assert {s: v["common_of"] for s, v in common["series"].items()} == pytest.approx(of_there, rel=1e-9)
     # law 2 on both tests: its OF on the slow test is not its calibration OF (the mean over both)
     assert of_there["2"] != pytest.approx(cals["law2_both"].of, rel=1e-3)
-    assert html.escape(common["verdict"]) in (tmp_path / "common" / "report.html").read_text()
+    page = (tmp_path / "common" / "report.html").read_text()
+    assert all(html.escape(line) in page for line in common["verdict_lines"])
 
     (root / "sn1_slow.csv").rename(root / "away.csv")
     try:
@@ -210,13 +214,13 @@ def test_frame_ranks_models_on_the_same_data_only(one_and_two_tests, tmp_path):
     of_fast = {"1": cals["law1_slow"].of_on(fast), "2": cals["law2_both"].of_on(fast)}
     best = min(of_fast, key=of_fast.get)
     assert given["verdict"].startswith(f"best-fitting model on the record sn1_fast: law {best} "
-                                       f"(mean OF there {of_fast[best]:.4g})")
+                                       f"(mean OF there {rounded(of_fast[best])})")
     assert [c["ranked_on"]["of"] for c in given["cases"][1:]] == pytest.approx([of_fast["1"], of_fast["2"]])
 
     same = run("same", one, str(root / "law2_slow.yaml"))
     own = {"1": cals["law1_slow"].of, "2": cals["law2_slow"].of}
     best = min(own, key=own.get)
-    assert same["verdict"].startswith(f"best-fitting model: law {best} (mean OF {own[best]:.4g})")
+    assert same["verdict"].startswith(f"best-fitting model: law {best} (mean OF {rounded(own[best])})")
     assert all(c["ranked_on"] is None for c in same["cases"])
 
 

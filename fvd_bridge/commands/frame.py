@@ -49,6 +49,14 @@ def add_parser(sub):
     p.add_argument("--scale-force", type=float, default=1.0, metavar="S",
                    help="each damper is the calibrated device with its force times S (a larger device of the "
                         "series; default 1); its force limit scales with it")
+    p.add_argument("--target-damping", type=float, metavar="XI",
+                   help="size the dampers: each damper the calibrated device with its force times the one factor "
+                        "(every story) that gives the first mode this supplemental damping ratio, e.g. 0.20 "
+                        "(energy method, FEMA 274); prints each story's damper and the damping the frame "
+                        "achieves (free-vibration decay)")
+    p.add_argument("--design-drift", type=float, metavar="RATIO",
+                   help="roof drift ratio the dampers are sized at and their damping estimated at, e.g. 0.01 "
+                        "(default: the bare frame's peak under the record)")
     p.add_argument("--building", default="3-story", choices=BUILDINGS, help="frame (default 3-story)")
     p.add_argument("--laws", help="only these models, e.g. 2,9 or 2+friction (default all given)")
     p.add_argument("--rank-on", metavar="FILE",
@@ -122,10 +130,16 @@ def load_inputs(args):
         raise InputError("frame: give calibration files or calibrate output folders (PARAMS), or --periods")
     if not args.record:
         raise InputError("frame: --record FILE is required (a ground motion), except with --periods")
-    for name in ("scale_pga", "duration", "stroke_limit", "force_limit", "scale_force"):
+    for name in ("scale_pga", "duration", "stroke_limit", "force_limit", "scale_force", "target_damping",
+                 "design_drift"):
         value = getattr(args, name)
         if value is not None and not value > 0:
             raise InputError(f"--{name.replace('_', '-')} {value}: must be > 0")
+    if args.target_damping is not None and args.scale_force != 1.0:
+        raise InputError(f"--target-damping {args.target_damping:g} sizes the dampers: leave out --scale-force "
+                         f"{args.scale_force:g}")
+    if args.target_damping is not None and args.target_damping >= 1.0:
+        raise InputError(f"--target-damping {args.target_damping:g}: a damping ratio below 1 (0.20 is 20%)")
     if args.dampers_per_story < 1:
         raise InputError(f"--dampers-per-story {args.dampers_per_story}: must be at least 1")
     cals = [Calibration.load(f, plugins=args.plugin) for f in calibration_files(args.params)]
@@ -148,6 +162,24 @@ def load_inputs(args):
     if args.scale_pga:
         motion = motion.scaled_to_pga(args.scale_pga)
     return cals, building_of(args), motion, (read_record(args.rank_on) if args.rank_on else None)
+
+
+def sizing_command(args, target: float = 0.20) -> str:
+    """The command line that runs this analysis again with dampers sized for ``target``."""
+    import shlex
+
+    words = ["fvd-bridge", "frame", *args.params, "--record", args.record]
+    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws"):
+        if getattr(args, name) is not None:
+            words += [f"--{name.replace('_', '-')}", f"{getattr(args, name):g}" if isinstance(getattr(args, name), float)
+                      else str(getattr(args, name))]
+    if args.building != "3-story":
+        words += ["--building", args.building]
+    if args.dampers_per_story != 1:
+        words += ["--dampers-per-story", str(args.dampers_per_story)]
+    for plugin in args.plugin or ():
+        words += ["--plugin", plugin]
+    return shlex.join(words + ["--target-damping", f"{target:g}", "--out", args.out.rstrip("/") + "_sized"])
 
 
 def run(args) -> int:
@@ -173,15 +205,17 @@ def run(args) -> int:
     try:
         with timing.stage("frame analyses"):
             cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
-                              per_story=args.dampers_per_story, scale=args.scale_force, rank_on=rank_on)
+                              per_story=args.dampers_per_story, scale=args.scale_force, rank_on=rank_on,
+                              target_damping=args.target_damping, design_drift=args.design_drift)
         settings = {"dampers_per_story": args.dampers_per_story, "scale_force": args.scale_force,
-                    "energy_kept": motion.source.get("energy_kept", 1.0)}
+                    "energy_kept": motion.source.get("energy_kept", 1.0), "target_damping": args.target_damping,
+                    "design_drift": args.design_drift, "sizing_command": sizing_command(args)}
         with timing.stage("outputs, figures"):
             summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures,
                                           settings=settings, log=log.name)
     finally:
         os.unlink(log.name)
-    print(format_frame_table(cases, summary["series"], summary["verdict"]))
+    print(format_frame_table(cases, summary["series"], summary["verdict_lines"]))
     print(f"\nwrote {args.out}/ (frame_table.csv, frame_series.csv, frame_summary.json, histories/"
           f"{', figures/' if not args.no_figures else ''})")
     return 0

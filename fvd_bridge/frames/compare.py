@@ -26,12 +26,17 @@ import numpy as np
 
 from .. import timing
 from ..calibration import common_tests, data_key, same_data
+from ..report.numbers import rounded, share
 from ..errors import InputError
 from ..records.cycles import reversals
 from ..records.readers import read_as_stored
 from ..export.opensees import opensees_export
+from . import decay, sizing
 from .analysis import FrameResult, run_frame
 from .model import DAMPER_TAGS_FROM
+
+#: dampers adding less than this supplemental damping ratio to the first mode are too small to matter
+SMALL_DAMPING = 0.02
 
 #: a simpler model is as good as the best-fitting one within this share
 VERDICT_TOLERANCE = 0.05
@@ -65,6 +70,18 @@ class Case:
     fmu: bool = False  # OpenSees has no material for it: the damper FMU runs it (co-simulation)
     fitted_on: frozenset = frozenset()  # the tests its calibration OF is computed on (Calibration.fitted_on)
     ranked_on: tuple | None = None  # (what, OF there): its OF on the common record the models rank on
+    scale: float = 1.0  # each damper is the calibrated device with its force times this
+    design: object = None  # sizing.Design: its dampers in the first mode's design cycle (energy method)
+    achieved: float | None = None  # supplemental damping ratio [-] the frame achieved (free-vibration decay)
+
+    def supplemental_damping(self) -> dict | None:
+        """{'target', 'estimated' (energy method), 'achieved' (decay; None:
+        not measured), 'roof_drift'} of the first mode [-]; None for the bare frame."""
+        d = self.design
+        if d is None:
+            return None
+        return {"target": d.target, "estimated": d.damping, "achieved": self.achieved, "roof_drift": d.roof_drift,
+                "factor_per_damper": self.scale}
 
     def values(self) -> dict:
         """The design quantities (QUANTITIES) of this case; NaN where they do not apply."""
@@ -133,7 +150,8 @@ def _exceeded(case: Case, cal=None) -> list:
 
 
 def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=None, dt_analysis=None,
-              progress=None, per_story: int = 1, scale: float = 1.0, rank_on=None) -> list[Case]:
+              progress=None, per_story: int = 1, scale: float = 1.0, rank_on=None,
+              target_damping: float | None = None, design_drift: float | None = None) -> list[Case]:
     """The bare frame, then one analysis per calibration (fvd_bridge.calibration.Calibration).
 
     The models rank on the same data (``rank_common``): ``rank_on``, a test
@@ -143,7 +161,14 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
 
     ``per_story`` dampers side by side in each story, each the calibrated
     device with its force times ``scale`` (a larger device of the same
-    series); forces are reported per damper.  A model OpenSees cannot
+    series); forces are reported per damper.  ``target_damping`` [-]: each
+    model's dampers sized instead (``sizing.design``: the factor giving the
+    first mode this supplemental damping ratio at roof drift ratio
+    ``design_drift``, default the bare frame's peak under the record), and
+    the ratio the frame achieves measured by its free-vibration decay
+    (``decay.measure``, elastic members, less the bare frame's).  Every
+    damper case carries its design (``Case.design``: the energy method's
+    ratio of the dampers as they run).  A model OpenSees cannot
     express runs as the damper FMU in co-simulation with the frame
     (``cosim.cosimulate_frame``, explicit scheme: the frame takes the forces
     of the step before), its note saying so; one the FMU cannot carry
@@ -153,7 +178,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
         device = cal.device or (cal.record or {}).get("name") or "device"
         case = Case(f"law {cal.spec} | {device}", cal.spec, device, float(cal.of),
                     limits=_limits(cal, stroke_limit, force_limit, scale), n_params=len(cal.model.names),
-                    per_story=per_story, fitted_on=cal.fitted_on)
+                    per_story=per_story, fitted_on=cal.fitted_on, scale=scale)
         commands = None
         try:
             export = cal.solving(opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM))
@@ -166,27 +191,67 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
                              f"(OpenSees: {exc})")
         runs.append((case, commands, cal))
     rank_common([case for case, _, _ in runs[1:]], calibrations, rank_on)
+    mode = sizing.first_mode(building)
+    drift, bare_decay = design_drift, None
     for case, commands, cal in runs:
         if case.spec is not None and commands is None and not case.fmu:
             if progress:
                 progress(f"{case.label}: skipped ({case.note})")
             continue
-        tag = DAMPER_TAGS_FROM
-        if commands is not None:
-            commands, tag = scaled(commands, tag, per_story * scale)
+        if case.spec is not None:
+            case.design = sizing.design(mode, cal, drift, target_damping, per_story * case.scale)
+            if target_damping is not None:
+                case.scale = case.design.factor / per_story
+                case.limits = _limits(cal, stroke_limit, force_limit, case.scale)
+                if progress:
+                    progress(f"{case.label}: sized for {share(target_damping)} of critical damping at roof drift "
+                             f"{share(drift)}: each damper the device x{rounded(case.scale, digits=3)} in force")
         with timing.stage(f"  {case.label}"):
-            if case.fmu:
-                case.result = _cosimulated(building, motion, cal, per_story * scale, dt_analysis)
-            else:
-                case.result = run_frame(building, motion, commands, tag, dt_analysis=dt_analysis)
+            case.result = _analysed(building, motion, case, commands, cal, dt_analysis)
+        if case.spec is None and drift is None:
+            drift = float(np.max(np.abs(case.result.floor_displacement[:, -1]))) / mode.roof_height
+        if case.spec is not None and target_damping is not None:
+            with timing.stage(f"  {case.label}: free-vibration decay"):
+                if bare_decay is None:
+                    bare_decay = _decay(building, mode, case.design.roof_amplitude)
+                case.achieved = _decay(building, mode, case.design.roof_amplitude, case, commands, cal) - bare_decay
         case.exceeded = _exceeded(case, cal)
         if progress:
             v = case.values()
-            force = f", damper force {v['force']:.4g} kN" if np.isfinite(v["force"]) else ""
+            force = f", damper force {rounded(v['force'])} kN" if np.isfinite(v["force"]) else ""
             how = ", ".join(case.result.solver.algorithms_used) + ("" if case.exact in (True, None) and
                                                                    not case.fmu else f"; {case.note}")
-            progress(f"{case.label}: peak drift {v['drift']:.3f}%{force} ({how})")
+            got = f", supplemental damping achieved {share(case.achieved)}" if case.achieved is not None else ""
+            progress(f"{case.label}: peak drift {rounded(v['drift'])}%{force}{got} ({how})")
     return [case for case, _, _ in runs]
+
+
+def _analysed(building, motion, case: Case, commands, cal, dt_analysis=None, free_vibration=None,
+              record_dampers: bool = True) -> FrameResult:
+    """``case``'s frame under ``motion``: its dampers (``per_story`` x
+    ``scale`` times the device; none for the bare frame) through OpenSees,
+    or its FMU in co-simulation."""
+    factor = case.per_story * case.scale
+    if case.fmu:
+        return _cosimulated(building, motion, cal, factor, dt_analysis, free_vibration)
+    tag = DAMPER_TAGS_FROM
+    if commands is not None:
+        commands, tag = scaled(commands, tag, factor)
+    return run_frame(building, motion, commands, tag, dt_analysis=dt_analysis, free_vibration=free_vibration,
+                     record_dampers=record_dampers)
+
+
+def _decay(building, mode, amplitude: float, case: Case | None = None, commands=None, cal=None) -> float:
+    """The first-mode damping ratio [-] of the frame (elastic members) with
+    ``case``'s dampers (None: bare) at roof amplitude ``amplitude`` [mm],
+    by its free-vibration decay (``decay.measure``)."""
+    elastic = building.with_(yielding=False)
+    case = case or Case("bare frame", None, None, None)
+
+    def run(motion, free_vibration):
+        return _analysed(elastic, motion, case, commands, cal, free_vibration=free_vibration, record_dampers=False)
+
+    return decay.measure(run, mode, amplitude).damping
 
 
 #: [s] largest communication step of a frame co-simulated with the damper
@@ -198,17 +263,17 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
 COSIM_STEP = 0.002
 
 
-def _cosimulated(building, motion, cal, scale: float, dt_analysis=None) -> FrameResult:
+def _cosimulated(building, motion, cal, scale: float, dt_analysis=None, free_vibration=None) -> FrameResult:
     """The frame with ``cal``'s damper FMU in each story (built in a temporary
     folder), its force times ``scale``: the explicit co-simulation, which
     runs yielding members, at a step of at most COSIM_STEP; free vibration
-    as ``run_frame``'s."""
+    [s] as ``run_frame``'s."""
     from .cosim import cosimulate_frame
 
     h = min(float(dt_analysis or motion.dt), COSIM_STEP)
     with tempfile.TemporaryDirectory(prefix="fvd_frame_fmu-") as folder:
         fmu = cal.to_fmu(os.path.join(folder, "damper.fmu"))
-        result, _ = cosimulate_frame(building, motion, fmu, "explicit", h, free_vibration=None,
+        result, _ = cosimulate_frame(building, motion, fmu, "explicit", h, free_vibration=free_vibration,
                                      force_scale=scale)
     return result
 
@@ -305,37 +370,126 @@ def _tests(data: frozenset) -> str:
     return ", ".join(names) if len(names) <= 3 else f"{len(names)} tests"
 
 
-def verdict(spread: dict, cases=()) -> str:
-    """The simplest model (fewest parameters, then lowest law number) whose mean
-    peak drift and damper force are within VERDICT_TOLERANCE of the best-fitting
-    model's, with the series scatter (CoV) as the yardstick; an analysis that
-    did not reach its end (in ``cases``) is left out, and said so.  The
-    best-fitting model is ranked on the same data only (``ranking``); models
-    whose OFs are not get no best-fitting one, and the verdict says why."""
+def verdict(spread: dict, cases=(), resize: str | None = None) -> str:
+    """The verdict's lines (``verdict_lines``) as one text."""
+    return "; ".join(verdict_lines(spread, cases, resize))
+
+
+def verdict_lines(spread: dict, cases=(), resize: str | None = None) -> list[str]:
+    """What the frame analysis says, one line each:
+
+    - the best-fitting model, ranked on the same data only (``ranking``;
+      models whose OFs are not get none, and the verdict says why), and the
+      simplest model (fewest parameters, then lowest law number) whose mean
+      peak drift and damper force are within VERDICT_TOLERANCE of its;
+    - the response with that model's dampers against the bare frame: peak
+      and residual drift, floor acceleration, damper force;
+    - how much the choice of model changes peak drift (a decision on the
+      frame) and, apart, damper force (the damper and its connections),
+      with the series scatter (CoV) as the yardstick;
+    - the dampers' supplemental damping of the first mode: achieved against
+      the target where they were sized, else the energy method's estimate,
+      and below SMALL_DAMPING that they are too small to matter and how to
+      size them (``resize``, a command line);
+    - an analysis that did not reach its end (in ``cases``) is left out, and said so."""
     gone = unfinished(cases)
-    left_out = f"; left out, the analysis did not reach its end: {'; '.join(gone)}" if gone else ""
+    left_out = [f"left out, the analysis did not reach its end: {'; '.join(gone)}"] if gone else []
     if not spread:
-        return "no damper model ran to the end" + left_out
-    scatter = [spread[s][q][3] for s in spread for q in ("drift", "force") if np.isfinite(spread[s][q][3])]
-    yard = (f"; the series' own scatter (CoV over devices) reaches {100 * max(scatter):.1f}%"
-            if scatter else "; one device per model, no series scatter to compare with")
+        return ["no damper model ran to the end"] + left_out
     of, where = ranking(spread, cases)
+    parts = []
     if of is None:
-        means = [[spread[s][q][1] for s in spread] for q in ("drift", "force")]
-        apart = max([(max(x) - min(x)) / abs(min(x)) for x in means if min(x) != 0.0], default=0.0)
-        return f"{where}; the models' peak drift and damper force differ by up to {100 * apart:.1f}%{yard}{left_out}"
-    best = min(spread, key=lambda s: of[s])
-    ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
+        parts.append(where)
+        shown = min(spread, key=lambda s: (spread[s]["n_params"], s))
+    else:
+        best = min(spread, key=lambda s: of[s])
+        ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
 
-    def close(s):
-        return (abs(spread[s]["drift"][1] - ref_drift) <= VERDICT_TOLERANCE * abs(ref_drift)
-                and abs(spread[s]["force"][1] - ref_force) <= VERDICT_TOLERANCE * abs(ref_force))
+        def close(s):
+            return (abs(spread[s]["drift"][1] - ref_drift) <= VERDICT_TOLERANCE * abs(ref_drift)
+                    and abs(spread[s]["force"][1] - ref_force) <= VERDICT_TOLERANCE * abs(ref_force))
 
-    simplest = min((s for s in spread if close(s)), key=lambda s: (spread[s]["n_params"], s))
-    diffs = {s: max(abs(spread[s]["drift"][1] / ref_drift - 1), abs(spread[s]["force"][1] / ref_force - 1))
-             for s in spread}
-    spread_laws = max(diffs.values())
-    there = f" {where}" if where else ""
-    return (f"best-fitting model{there}: law {best} (mean OF{' there' if where else ''} {of[best]:.4g}); simplest "
-            f"within {100 * VERDICT_TOLERANCE:.0f}% on peak drift and damper force: law {simplest}; the choice of "
-            f"model changes them by up to {100 * spread_laws:.1f}%{yard}{left_out}")
+        simplest = min((s for s in spread if close(s)), key=lambda s: (spread[s]["n_params"], s))
+        there = f" {where}" if where else ""
+        parts.append(f"best-fitting model{there}: law {best} (mean OF{' there' if where else ''} "
+                     f"{rounded(of[best])}); simplest within {VERDICT_TOLERANCE:.0%} on peak drift and damper "
+                     f"force: law {simplest}")
+        shown = best
+    parts.append(_response(spread, shown, cases))
+    parts.append(_model_choice(spread))
+    damping = _damping(spread, cases, resize)
+    if damping:
+        parts.append(damping)
+    return parts + left_out
+
+
+def _mean_text(stats: tuple, unit: str) -> str:
+    """'1.215%' (one device) or '1.211-1.220%' (min-max over the series' devices)."""
+    low, mean, high, _ = stats
+    if not np.isfinite(mean):
+        return "n/a"
+    body = rounded(mean) if np.isclose(low, high, rtol=1e-12, atol=0.0) else f"{rounded(low)}-{rounded(high)}"
+    return f"{body}{unit if unit == '%' else ' ' + unit}"
+
+
+def _response(spread: dict, spec: str, cases) -> str:
+    """'with law 2: peak drift 1.215% (bare frame 1.376%), residual drift ...'."""
+    bare = next((c.values() for c in cases if c.spec is None and c.result is not None), None)
+    s = spread[spec]
+
+    def against(key, unit):
+        was = "" if bare is None or not np.isfinite(bare[key]) else \
+            f" (bare frame {rounded(bare[key])}{unit if unit == '%' else ' ' + unit})"
+        return _mean_text(s[key], unit) + was
+
+    return (f"with law {spec}: peak interstory drift {against('drift', '%')}, residual drift "
+            f"{against('residual', '%')}, peak floor acceleration {against('pfa', 'g')}, peak damper force "
+            f"{_mean_text(s['force'], 'kN')} per damper")
+
+
+def _model_choice(spread: dict) -> str:
+    """How far apart the models' mean peak drift and damper force lie, each
+    named with the decision it weighs on, beside the series' scatter."""
+    scatter = [spread[s][q][3] for s in spread for q in ("drift", "force") if np.isfinite(spread[s][q][3])]
+    yard = (f"; the series' own scatter (CoV over devices) reaches {share(max(scatter))}"
+            if scatter else "; one device per model, no series scatter to compare with")
+    if len(spread) < 2:
+        return "one model, no choice of model to weigh" + yard
+
+    def apart(q):
+        x = [spread[s][q][1] for s in spread]
+        return (max(x) - min(x)) / abs(min(x)) if min(x) != 0.0 else float("nan")
+
+    return (f"the choice of model changes peak drift by up to {share(apart('drift'))} (what the frame is designed "
+            f"for) and peak damper force by up to {share(apart('force'))} (what the damper and its connections "
+            f"are designed for){yard}")
+
+
+def _damping(spread: dict, cases, resize: str | None) -> str:
+    """The dampers' supplemental damping ratio of the first mode: achieved
+    (free-vibration decay) against the target, or the energy method's
+    estimate, flagged below SMALL_DAMPING with the command that sizes them."""
+    ran = [c for c in cases if c.spec in spread and getattr(c, "design", None) is not None]
+    if not ran:
+        return ""
+    drift = share(ran[0].design.roof_drift)
+    target = ran[0].design.target
+    if target is not None:
+        got = [c.achieved for c in ran if c.achieved is not None and np.isfinite(c.achieved)]
+        measured = (f"achieved {_span(got)}" if got else
+                    "not measured (the decay did not reach the design amplitude)")
+        return (f"dampers sized for {share(target)} of critical damping in the first mode at roof drift {drift}: "
+                f"{measured} (free-vibration decay)")
+    xi = [c.design.damping for c in ran]
+    high = max(xi)
+    text = f"the dampers add {_span(xi)} of critical damping to the first mode (energy method at roof drift {drift})"
+    if high < SMALL_DAMPING:
+        text += (": too small to matter; size them for a target"
+                 + (f": {resize}" if resize else " (frame --target-damping 0.20)"))
+    return text
+
+
+def _span(ratios) -> str:
+    """'3.3%', or '3.3-3.5%' where the ratios differ as shown."""
+    low, high = share(min(ratios)), share(max(ratios))
+    return low if low == high else f"{low[:-1]}-{high}"

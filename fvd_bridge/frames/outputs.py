@@ -17,8 +17,8 @@ import shutil
 import numpy as np
 
 from ..io.staging import safe_name, staged_dir, write_csv_rows, write_json
-from .compare import QUANTITIES, series_spread, verdict
-
+from ..report.numbers import rounded, share, with_unit
+from .compare import QUANTITIES, series_spread, verdict_lines
 
 
 def _num(x):
@@ -31,10 +31,12 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
     """Write the tables, histories and figures; returns the summary dict (its
     'series' the spread over the devices, its 'verdict' the verdict's text).
     ``settings``: the run's (dampers per story, force scale, the record's
-    share kept) into the summary; ``log``: OpenSees' own messages, kept as
-    opensees.log."""
+    share kept; 'sizing_command': the command line the verdict gives for
+    sizing dampers too small to matter) into the summary; ``log``:
+    OpenSees' own messages, kept as opensees.log."""
     spread = series_spread(cases)
-    text = verdict(spread, cases)
+    lines = verdict_lines(spread, cases, (settings or {}).get("sizing_command"))
+    text = "; ".join(lines)
     with staged_dir(out) as stage:
         header = ["case", "model", "device", "calibration_of"] + [f"{k} [{u}]" for k, _, u in QUANTITIES] + [
             "opensees", "algorithms", "exceeded", "note"]
@@ -67,9 +69,13 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                                                      "exceeded": c.exceeded, "limits": c.limits,
                                                      "ranked_on": ({"record": c.ranked_on[0], "of": c.ranked_on[1]}
                                                                    if c.ranked_on else None),
-                                                     "response": c.result.summary() if c.result else None}
+                                                     "response": c.result.summary() if c.result else None,
+                                                     "quantities": ({k: _num(x) for k, x in c.values().items()}
+                                                                    if c.result else None),
+                                                     "supplemental_damping": c.supplemental_damping(),
+                                                     "design": _design_rows(c)}
                                                     for c in cases],
-                   "series": spread, "verdict": text, "settings": settings or {}}
+                   "series": spread, "verdict": text, "verdict_lines": lines, "settings": settings or {}}
         write_json(os.path.join(stage, "frame_summary.json"), summary)
         if log and os.path.isfile(log):
             shutil.copyfile(log, os.path.join(stage, "opensees.log"))
@@ -91,26 +97,83 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
     return summary
 
 
+def _design_rows(case) -> list | None:
+    """Each story's damper in the first mode's design cycle (per damper):
+    stroke amplitude [mm], peak velocity [mm/s], force at it [kN], loop
+    energy [kN mm]; None for the bare frame."""
+    d = case.design
+    if d is None:
+        return None
+    return [{"stroke_mm": s.amplitude, "velocity_mm_s": s.velocity, "force_kN": s.force * case.scale,
+             "energy_kNmm": s.energy * case.scale} for s in d.stories]
+
+
 def _cell(x: float) -> str:
-    """A table value; '-' where the quantity does not exist (the bare frame's damper force)."""
-    return f"{x:.4g}" if np.isfinite(x) else "-"
+    """A table value (``numbers.rounded``); '-' where the quantity does not exist (the bare frame's damper force)."""
+    return rounded(x) if np.isfinite(x) else "-"
 
 
-def format_frame_table(cases, spread: dict, text: str) -> str:
-    """The printed comparison: one line per case, the series spread, the verdict."""
-    w = max(len(c.label) for c in cases) + 2
-    head = f"{'case':<{w}}" + "".join(f"{k + ' [' + u + ']':>15}" for k, _, u in QUANTITIES) + "  notes"
-    lines = [head, "-" * len(head)]
+def format_sizing_table(cases) -> str:
+    """The dampers sized for a target damping: per case and story the
+    damper's stroke, velocity and force at the design velocity and its
+    factor, then the damping achieved against the target ('' when none was sized)."""
+    sized = [c for c in cases if c.design is not None and c.design.target is not None]
+    if not sized:
+        return ""
+    d = sized[0].design
+    head = ["case", "story", with_unit("stroke", "mm"), with_unit("design velocity", "mm/s"),
+            with_unit("force at it", "kN"), "force factor"]
+    rows = [[c.label, str(k), rounded(s.amplitude), rounded(s.velocity), rounded(s.force * c.scale),
+             rounded(c.scale, digits=3)] for c in sized for k, s in enumerate(c.design.stories, start=1)]
+    lines = [f"dampers sized for {share(d.target)} of critical damping in the first mode (T1 {rounded(d.period)} s) "
+             f"at roof drift {share(d.roof_drift)} ({rounded(d.roof_amplitude)} mm), energy method (FEMA 274): "
+             "each damper the calibrated device with its force times one factor in every story",
+             *_columns(head, rows), ""]
+    for c in sized:
+        got = "not measured" if c.achieved is None else share(c.achieved)
+        lines.append(f"  {c.label}: supplemental damping target {share(c.design.target)}, energy method "
+                     f"{share(c.design.damping)}, achieved {got} (free-vibration decay)")
+    return "\n".join(lines)
+
+
+def _columns(head: list, rows: list, right_from: int = 1) -> list[str]:
+    """Lines of a text table: columns as wide as their widest cell, numbers right-aligned."""
+    width = [max(len(str(r[k])) for r in [head, *rows]) for k in range(len(head))]
+
+    def line(r):
+        return "  ".join(f"{r[k]:<{width[k]}}" if k < right_from else f"{r[k]:>{width[k]}}"
+                         for k in range(len(r))).rstrip()
+    top = line(head)
+    return [top, "-" * len(top), *[line(r) for r in rows]]
+
+
+def format_frame_table(cases, spread: dict, text: str | list) -> str:
+    """The printed comparison: one line per case (its notes numbered under
+    the table), the series spread, the dampers' sizing, the verdict (a text
+    or its lines)."""
+    notes, rows = [], []
     for c in cases:
         v = c.values()
-        notes = "; ".join(["FMU co-simulation"] * c.fmu + c.exceeded) if c.result is not None else \
-            f"skipped: {c.note}"
-        lines.append(f"{c.label:<{w}}" + "".join(f"{_cell(v[k]):>15}" for k, _, _ in QUANTITIES) + f"  {notes}")
+        mine = (["FMU co-simulation"] * c.fmu + c.exceeded) if c.result is not None else [f"skipped: {c.note}"]
+        for n in mine:
+            if n not in notes:
+                notes.append(n)
+        rows.append([c.label, rounded(c.of)] + [_cell(v[k]) for k, _, _ in QUANTITIES]
+                    + [" ".join(f"[{notes.index(n) + 1}]" for n in mine)])
+    head = ["case", "calibration OF"] + [with_unit(k, u) for k, _, u in QUANTITIES] + ["notes"]
+    lines = _columns(head, rows, right_from=1)
+    lines += [f"  [{k}] {n}" for k, n in enumerate(notes, start=1)]
     if any(len(s["devices"]) > 1 for s in spread.values()):
         lines += ["", "production series: min / mean / max (CoV) over devices"]
         for spec, s in spread.items():
-            cells = ", ".join(f"{k} {s[k][0]:.4g}/{s[k][1]:.4g}/{s[k][2]:.4g} ({100 * s[k][3]:.1f}%)"
+            cells = ", ".join(f"{k} {rounded(s[k][0])}/{rounded(s[k][1])}/{rounded(s[k][2])} ({share(s[k][3])})"
                               for k in ("drift", "force", "stroke"))
             lines.append(f"  law {spec} ({len(s['devices'])} devices): {cells}")
-    lines += ["", f"verdict: {text}"]
+    sizing = format_sizing_table(cases)
+    if sizing:
+        lines += ["", sizing]
+    verdict = [text] if isinstance(text, str) else list(text)
+    lines += ["", "verdict:" + ("" if len(verdict) > 1 else f" {verdict[0]}")]
+    if len(verdict) > 1:
+        lines += [f"  - {line}" for line in verdict]
     return "\n".join(lines)
