@@ -149,6 +149,37 @@ def test_an_analysis_that_stops_early_is_left_out_of_the_verdict(series, tmp_pat
     assert "left out, the analysis did not reach its end: law 2 | dev (stopped at 37.4 s of the record's 53.7 s)" in text
 
 
+def test_dampers_too_small_to_matter_are_said_so_with_the_command_that_sizes_them(series, tmp_path):
+    """Issue 32, point 4: below 2% of critical damping in the first mode
+    (energy method at the stated roof drift) the verdict says the dampers are
+    too small to matter and gives the command that sizes them; the page and
+    the printed table show no raw float; bad sizing options get one line."""
+    import re
+
+    law2 = str(series / "cal" / "params" / "dev0" / "law2.yaml")
+    rec = str(series / "quake.txt")
+    out = tmp_path / "small"
+    res = frame(law2, "--record", rec, "--duration", "1.5", "--design-drift", "0.03", "--out", str(out), "--quiet")
+    assert res.returncode == 0, res.stderr[-2000:]
+    summary = json.load(open(out / "frame_summary.json"))
+    xi = summary["cases"][1]["supplemental_damping"]
+    assert xi["target"] is None and xi["achieved"] is None and 0 < xi["estimated"] < 0.02
+    line = summary["verdict_lines"][-1]
+    assert "too small to matter" in line and f"--record {rec} --duration 1.5 --design-drift 0.03 " \
+        "--target-damping 0.2" in line
+    assert "the choice of model" not in summary["verdict"]  # one model: no choice to weigh
+    page = (out / "report.html").read_text()
+    cells = re.findall(r"<td>([^<]*)</td>", page)
+    digits = [len(re.sub(r"\D", "", c.lstrip("0.-"))) for c in cells if re.fullmatch(r"-?[0-9.]+", c)]
+    assert digits and max(digits) <= 6
+    assert "Devices: dev0 (law 2)" in page
+    assert not re.search(r"\d\.\d{7,}", res.stdout)
+    both = frame(law2, "--record", rec, "--target-damping", "0.2", "--scale-force", "2", "--out", str(tmp_path / "b"))
+    assert both.returncode == 2 and "--scale-force" in both.stderr and not (tmp_path / "b").exists()
+    big = frame(law2, "--record", rec, "--target-damping", "20", "--out", str(tmp_path / "c"))
+    assert big.returncode == 2 and "--target-damping 20" in big.stderr and "Traceback" not in big.stderr
+
+
 @pytest.fixture(scope="module")
 def one_and_two_tests(tmp_path_factory, series):
     """Calibrations of one lab-like device (two tests, files with their

@@ -169,7 +169,7 @@ def sizing_command(args, target: float = 0.20) -> str:
     import shlex
 
     words = ["fvd-bridge", "frame", *args.params, "--record", args.record]
-    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws"):
+    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift"):
         if getattr(args, name) is not None:
             words += [f"--{name.replace('_', '-')}", f"{getattr(args, name):g}" if isinstance(getattr(args, name), float)
                       else str(getattr(args, name))]

@@ -476,7 +476,7 @@ def _damping(spread: dict, cases, resize: str | None) -> str:
     target = ran[0].design.target
     if target is not None:
         got = [c.achieved for c in ran if c.achieved is not None and np.isfinite(c.achieved)]
-        measured = (f"achieved {_span(got)}" if got else
+        measured = (f"achieved {_span(got, 3)}" if got else
                     "not measured (the decay did not reach the design amplitude)")
         return (f"dampers sized for {share(target)} of critical damping in the first mode at roof drift {drift}: "
                 f"{measured} (free-vibration decay)")
@@ -489,7 +489,7 @@ def _damping(spread: dict, cases, resize: str | None) -> str:
     return text
 
 
-def _span(ratios) -> str:
+def _span(ratios, digits: int = 2) -> str:
     """'3.3%', or '3.3-3.5%' where the ratios differ as shown."""
-    low, high = share(min(ratios)), share(max(ratios))
+    low, high = share(min(ratios), digits), share(max(ratios), digits)
     return low if low == high else f"{low[:-1]}-{high}"

@@ -2,7 +2,8 @@
 
 DIR/frame_table.csv        one row per case: design quantities, calibration OF, export kind, limits exceeded
 DIR/frame_series.csv       per model: min, mean, max, CoV over the series' devices of each quantity
-DIR/frame_summary.json     building, motion, every case's summary, the spread and the verdict
+DIR/frame_summary.json     building, motion, every case's summary (quantities, supplemental damping of
+                           the first mode, the dampers' design per story), the spread and the verdict
 DIR/histories/<device>_law<SPEC>_story<k>.csv   each damper's deformation history (t [s], d [mm]):
                            `rig --protocol history:FILE` and `compare` accept it, a lab can play it
 DIR/figures/               drift profiles (series band), damper hysteresis, time histories
@@ -130,9 +131,9 @@ def format_sizing_table(cases) -> str:
              "each damper the calibrated device with its force times one factor in every story",
              *_columns(head, rows), ""]
     for c in sized:
-        got = "not measured" if c.achieved is None else share(c.achieved)
+        got = "not measured" if c.achieved is None else share(c.achieved, 3)
         lines.append(f"  {c.label}: supplemental damping target {share(c.design.target)}, energy method "
-                     f"{share(c.design.damping)}, achieved {got} (free-vibration decay)")
+                     f"{share(c.design.damping, 3)}, achieved {got} (free-vibration decay)")
     return "\n".join(lines)
 
 

@@ -122,9 +122,9 @@ def _sizing_tables(summary: dict) -> str:
     if not sized:
         return ""
     first = sized[0]["supplemental_damping"]
-    rows = [[c["label"], share(c["supplemental_damping"]["target"]), share(c["supplemental_damping"]["estimated"]),
-             share(c["supplemental_damping"]["achieved"]), rounded(c["supplemental_damping"]["factor_per_damper"], digits=3)]
-            for c in sized]
+    rows = [[c["label"], share(c["supplemental_damping"]["target"]),
+             share(c["supplemental_damping"]["estimated"], digits=3), share(c["supplemental_damping"]["achieved"], digits=3),
+             rounded(c["supplemental_damping"]["factor_per_damper"], digits=3)] for c in sized]
     parts = [f"<h3>dampers sized for the first mode</h3><p>Each damper is the calibrated device with its force times "
              f"one factor in every story, sized by the energy method (FEMA 274 / FEMA 356) at roof drift "
              f"{share(first['roof_drift'])}; the damping achieved is measured by the free-vibration decay of the "
@@ -161,6 +161,21 @@ def _series_table(summary: dict) -> str:
                                "the series: spread over the devices of each model"))
 
 
+def _dampers_line(out: str, summary: dict) -> str:
+    """'Devices: device_01 (laws 2, 9); 1 damper per story, ...': what sits in the stories."""
+    devices = frame_devices(out)
+    if not devices:
+        return ""
+    settings = summary.get("settings") or {}
+    n = settings.get("dampers_per_story", 1)
+    how = f"{n} damper{'s' if n > 1 else ''} per story"
+    if settings.get("target_damping") is not None:
+        how += f", sized for {share(settings['target_damping'])} of critical damping in the first mode"
+    elif settings.get("scale_force", 1.0) != 1.0:
+        how += f", each the device with its force x{rounded(settings['scale_force'], digits=3)}"
+    return f"<p>Devices: {devices}; {escape(how)}</p>"
+
+
 def frame_section(out: str) -> str:
     """The frame analysis' section of the page ('' without frame_summary.json)."""
     summary = _summary(out)
@@ -170,7 +185,7 @@ def frame_section(out: str) -> str:
     figures = [(os.path.join(out, "figures", name), caption) for name, caption in CAPTIONS.items()
                if os.path.isfile(os.path.join(out, "figures", name))]
     parts = ["<section id='frame'><style>#frame td,#frame th{white-space:nowrap}</style><h2>frame analysis</h2>",
-             "<ul class='verdict'>" + "".join(f"<li>{escape(line)}</li>" for line in lines if line) + "</ul>",
+             _dampers_line(out, summary), "<ul class='verdict'>" + "".join(f"<li>{escape(line)}</li>" for line in lines if line) + "</ul>",
              _sizing_tables(summary), "<h3>peak response</h3>", _response_table(summary), _series_table(summary),
              *[_image(path, caption) for path, caption in figures], "</section>"]
     return "\n".join(p for p in parts if p)
