@@ -188,3 +188,68 @@ def test_the_acceptance_nominal_ranks_on_the_same_data(tmp_path):
     build_report(str(out))
     assert ("nominal force: law 1 (fitted to different tests: not ranked, the first file&#x27;s)"
             in (out / "report.html").read_text())
+
+
+def _viscous(amplitudes, freqs, C=1.0, dt=0.002, name="test"):
+    """A linear viscous test, F = C v [kN], cycle k at amplitudes[k] [mm] and
+    freqs[k] [Hz], phase-continuous, starting and ending at d = 0 moving up."""
+    from fvd_bridge.records import Record
+
+    t, d, v, t0 = [], [], [], 0.0
+    for A, f in zip(amplitudes, freqs):
+        s = np.arange(0.0, 1.0 / f, dt)
+        t.append(t0 + s), d.append(A * np.sin(2 * np.pi * f * s)), v.append(2 * np.pi * f * A * np.cos(2 * np.pi * f * s))
+        t0 += 1.0 / f
+    t, d, v = np.concatenate(t), np.concatenate(d), np.concatenate(v)
+    return Record(t, d, C * v, v, np.gradient(v, t), name=name)
+
+
+def _rows(checks, what):
+    return [c for c in checks if c.what.startswith(what)]
+
+
+def test_acceptance_applies_the_cycle_rules_to_constant_amplitude_cycles_only():
+    """Issue 32, point 3: on a ramped amplitude the per-cycle rules read 'not
+    applicable' with the reason; on constant-amplitude cycles at one velocity
+    they apply, hold the energy to pi C omega A^2 (a linear damper's loop,
+    by hand), and fail where one cycle's energy is really off."""
+    from fvd_bridge.report.acceptance import checks_of_test, levels
+
+    ramp = _viscous(np.linspace(8.0, 40.0, 6), [1.0] * 6, name="ramp")
+    checks = checks_of_test(ramp, nominal_force=None)
+    energy = _rows(checks, "energy per cycle")
+    assert len(energy) == 1 and energy[0].verdict == "not applicable" and energy[0].measured is None
+    assert "amplitude" in energy[0].why_not and "constant amplitude" in energy[0].why_not
+    assert _rows(checks, "peak force spread")[0].verdict == "not applicable"
+    assert all(c.source for c in checks) and "ASCE 7-16" in energy[0].source
+
+    steady = _viscous([20.0] * 6, [1.0] * 6, name="steady")
+    energy = _rows(checks_of_test(steady, nominal_force=None), "energy per cycle")
+    assert len(energy) == 1 and energy[0].verdict == "pass"
+    assert "at 20.0 mm, 126 mm/s" in energy[0].what  # the level it applies to, stated
+    assert energy[0].reference == pytest.approx(np.pi * 1.0 * 2 * np.pi * 1.0 * 20.0 ** 2, rel=2e-3)
+
+    off = _viscous([20.0] * 6, [1.0] * 6, name="off")
+    a, b = levels(off)[0].cycles[2]
+    off.F[a:b + 1] *= 1.3  # one cycle dissipates 30% more: 1.3 / 1.06 - 1 = 23% above the mean of six
+    energy = _rows(checks_of_test(off, nominal_force=None), "energy per cycle")[0]
+    assert energy.verdict == "FAIL"
+    assert energy.deviation == pytest.approx(1.3 / (1 + 0.3 / len(levels(off)[0].cycles)) - 1.0, rel=0.02)
+    assert _rows(checks_of_test(off, None, tolerance=0.30), "energy per cycle")[0].verdict == "pass"  # a setting
+
+
+def test_acceptance_checks_each_velocity_level_and_the_series_rule_needs_a_series():
+    """Three cycles at each of three frequencies (one amplitude, as the rig's acceptance protocol): three levels,
+    each checked at its own velocity; with one device the production check
+    (against the series' nominal) is not applicable."""
+    from fvd_bridge.report.acceptance import checks_of_test, levels
+
+    rec = _viscous([20.0] * 9, [0.5] * 3 + [1.0] * 3 + [2.0] * 3, name="levels")
+    assert [len(lv.cycles) for lv in levels(rec)] == [2, 2, 2]  # whole cycles; those straddling two levels left out
+    assert [lv.velocity for lv in levels(rec)] == pytest.approx([2 * np.pi * f * 20.0 for f in (0.5, 1.0, 2.0)],
+                                                                rel=0.01)
+    checks = checks_of_test(rec, nominal_force=100.0, series_size=1)
+    assert [c.verdict for c in _rows(checks, "energy per cycle")] == ["pass"] * 3
+    production = _rows(checks, "force at")[0]
+    assert production.verdict == "not applicable" and "one device" in production.why_not
+    assert _rows(checks_of_test(rec, nominal_force=200.0, series_size=2), "force at")[0].verdict == "FAIL"

@@ -3,8 +3,9 @@ production test checks of ASCE 7-16 section 18.6.2 and EN 15129:2018
 section 7.3, each applied only to the tests its rule is written for.
 
 Per test, split into full cycles at every second reversal of d, grouped in
-levels (``levels``: consecutive cycles whose amplitude and peak velocity are
-within ``LEVEL_MATCH`` of the level's first cycle):
+levels (``levels``: consecutive cycles whose amplitude, peak velocity and
+duration are within ``LEVEL_MATCH`` of the level's first cycle; a cycle that
+straddles two levels belongs to neither):
 
 - **force at the test velocity** (a production test, EN 15129 7.3): the
   mean over cycles of the peak force |F| against the nominal value, the
@@ -34,10 +35,11 @@ from .numbers import rounded, share
 
 #: the default tolerance of every check: +-15% (ASCE 7-16 18.6.2.3)
 TOLERANCE = 0.15
-#: cycles of one level: amplitude and peak velocity within this share of the level's first cycle
+#: cycles of one level: amplitude, peak velocity and duration within this share of the level's first cycle
 LEVEL_MATCH = 0.05
-#: the fewest cycles of one level the cycle-to-cycle rules are applied to
-MIN_CYCLES = 3
+#: the fewest cycles of one level the cycle-to-cycle rules are applied to (a level of three
+#: sinusoidal cycles holds two whole reversal-to-reversal cycles)
+MIN_CYCLES = 2
 
 SOURCE_PRODUCTION = "EN 15129:2018 7.3 (production tests)"
 SOURCE_SPREAD = "ASCE 7-16 18.6.2.3"
@@ -101,15 +103,16 @@ def _peaks_and_energies(rec, spans) -> tuple[np.ndarray, np.ndarray]:
 def levels(rec, match: float = LEVEL_MATCH, fewest: int = MIN_CYCLES) -> list[Level]:
     """The record's levels of at least ``fewest`` constant-amplitude cycles at
     one velocity: consecutive full cycles whose amplitude (half the peak-to-
-    peak d) [mm] and peak |v| [mm/s] are within ``match`` of the level's first."""
+    peak d) [mm], peak |v| [mm/s] and duration [s] are within ``match`` of the
+    level's first."""
     spans = cycles(rec.d)
     amp = np.array([0.5 * np.ptp(rec.d[a:b + 1]) for a, b in spans])
     vel = np.array([np.max(np.abs(rec.v[a:b + 1])) for a, b in spans])
+    period = np.array([rec.t[b] - rec.t[a] for a, b in spans])
     found, k = [], 0
     while k < len(spans):
         j = k + 1
-        while (j < len(spans) and abs(amp[j] / amp[k] - 1.0) <= match
-               and abs(vel[j] / vel[k] - 1.0) <= match):
+        while j < len(spans) and all(abs(x[j] / x[k] - 1.0) <= match for x in (amp, vel, period)):
             j += 1
         if j - k >= fewest:
             found.append(Level(tuple(spans[k:j]), float(amp[k:j].mean()), float(vel[k:j].mean())))
