@@ -86,19 +86,20 @@ def test_ga_same_seed_same_result_and_elitism():
     a = run_ga(_sphere, 3, np.random.default_rng(7), GASettings(pop=40, gens=60))
     b = run_ga(_sphere, 3, np.random.default_rng(7), GASettings(pop=40, gens=60))
     c = run_ga(_sphere, 3, np.random.default_rng(8), GASettings(pop=40, gens=60))
-    np.testing.assert_array_equal(a[0], b[0])
-    assert a[1] == b[1] and a[2] == b[2]
-    assert not np.array_equal(a[0], c[0])
-    hist = np.array(a[2])
+    np.testing.assert_array_equal(a.x, b.x)
+    assert a.of == b.of and a.history == b.history
+    assert not np.array_equal(a.x, c.x)
+    hist = np.array(a.history)
     assert np.all(np.diff(hist) <= 0.0)  # elitism: best OF never increases
     assert hist[-1] < hist[0]
 
 
 def test_ga_stops_on_stagnation():
     flat = lambda X: np.ones(len(X))  # noqa: E731  nothing ever improves
-    _, _, hist, evals = run_ga(flat, 2, np.random.default_rng(0), GASettings(pop=10, gens=200, stall=20))
-    assert len(hist) == 21  # initial generation + 20 stalled ones
-    assert evals <= 10 + 20 * 9  # identical children are not evaluated twice
+    found = run_ga(flat, 2, np.random.default_rng(0), GASettings(pop=10, gens=200, stall=20))
+    assert len(found.history) == 21  # initial generation + 20 stalled ones
+    assert found.evaluations <= 10 + 20 * 9  # identical children are not evaluated twice
+    assert found.stop == "GA: no better point in 20 generations (generation 21)"
 
 
 def test_ga_reuses_identical_children_without_changing_the_result():
@@ -109,7 +110,8 @@ def test_ga_reuses_identical_children_without_changing_the_result():
         return _sphere(X)
 
     s = GASettings(pop=30, gens=80, stall=80)
-    x, f, hist, evals = run_ga(counted, 2, np.random.default_rng(3), s)
+    found = run_ga(counted, 2, np.random.default_rng(3), s)
+    x, f, hist, evals = found.x, found.of, found.history, found.evaluations
     assert evals == sum(calls) < 30 + 79 * 29  # converged generations repeat members
     assert f == pytest.approx(_sphere(x[None, :])[0])
     assert np.all(np.diff(hist) <= 0.0)
@@ -217,12 +219,15 @@ def test_starts_in_two_basins_call_the_global_check(monkeypatch):
     monkeypatch.setattr(local, "_check", spy)
     evaluate = lambda X: np.abs(_two_wells(X)).sum(axis=1)  # noqa: E731
     # the data's start in the wide well; the Sobol sample's best, apart from it, in the narrow one
-    x, of, _, _ = local.run_local(evaluate, _two_wells, 1, np.random.default_rng(0), x0=np.array([0.3]))
+    found = local.run_local(evaluate, _two_wells, 1, np.random.default_rng(0), x0=np.array([0.3]))
+    x, of = found.x, found.of
     assert len(calls) == 1 and of == pytest.approx(0.05, abs=1e-6) and x[0] == pytest.approx(0.75, abs=1e-3)
     calls.clear()
     one = lambda X: np.abs(np.atleast_2d(X)[:, :1] - 0.4) + 0.1  # noqa: E731  # one basin only
-    x, of, _, _ = local.run_local(lambda X: np.abs(one(X)).sum(axis=1), one, 1, np.random.default_rng(0),
-                                  x0=np.array([0.9]))
+    found = local.run_local(lambda X: np.abs(one(X)).sum(axis=1), one, 1, np.random.default_rng(0),
+                            x0=np.array([0.9]))
+    x, of = found.x, found.of
+    assert found.stop.startswith("local: 1 basin(s) from 2 start(s); solves ended: "), found.stop
     assert not calls and of == pytest.approx(0.1, abs=1e-6)
 
 

@@ -39,8 +39,8 @@ def test_one_local_solve_from_the_data_start_reaches_the_global_optimum(law_no, 
     device = as_device(rec)
     _, b, space, evaluate, residuals = _problem(model, device, Layout(model, tuple(device.test_names)), "auto")
     start = np.clip(data_start(model, rec), b[:, 0], b[:, 1])
-    _, of, _, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
-                            space.to_unit(start))
+    of = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
+                   space.to_unit(start)).of
     de = fit_model(model, rec, optimizer="de", seed=0, widen=False)
     assert of <= de.of * (1.0 + 1e-3)
     assert min(evaluate_params(model, rec, p) for p in start) > of  # the start is a start, not the answer

@@ -36,6 +36,7 @@ except ImportError:  # no flock (Windows): no protection against two runs at onc
 from ..errors import InputError
 from ..records.device import as_device
 from ..fit import FitResult
+from ..fit.result import Parent
 
 #: format of the unit files and campaign.json
 SCHEMA_VERSION = 1
@@ -84,7 +85,8 @@ def result_from_dict(d: dict) -> FitResult:
                      off=list(d["off"]), tests=list(d.get("tests") or []),
                      test_of=[float(x) for x in d.get("test_of") or []],
                      widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()},
-                     parent=list(d.get("parent") or []), flat_ends=list(d.get("flat_ends") or []))
+                     parent=Parent(d["parent"][0], float(d["parent"][1])) if d.get("parent") else None,
+                     stop=str(d.get("stop") or ""), flat_ends=list(d.get("flat_ends") or []))
 
 
 def record_digest(rec) -> str:

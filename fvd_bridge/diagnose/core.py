@@ -358,7 +358,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     agree.advise(agreement, diag.candidates)
     diag.agreement = agreement
     if parent is True and model.effects and base_fit.parent:  # the nested fit the base started from
-        parent = (base_fit.parent[0], float(base_fit.parent[1]))
+        parent = (base_fit.parent.spec, float(base_fit.parent.of))
     elif parent is True and model.effects:  # fitted as calibrate fits it: the best base available
         parent_model = model.without_effect(model.effects[-1].name)
         pfit = fit_model(parent_model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],

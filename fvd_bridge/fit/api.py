@@ -15,7 +15,8 @@ from .local import FROM_START, LocalSettings, run_local
 from .layout import Layout
 from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, data_start, nested_start, wider_bounds
 from .objective import objective_weights
-from .result import FitResult
+from .result import FitResult, Parent
+from .search import Evaluations, Search
 from .space import Space
 
 OPTIMIZERS = ("local", "local+de", "de", "ga", "ga+polish")
@@ -79,7 +80,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
         raise InputError(f"optimizer {optimizer}: settings {type(settings).__name__} belong to another optimizer "
                          f"(settings_for('{optimizer}', pop, gens) gives its own)")
     overrides = dict(overrides or {})
-    t0, evals, widened, parent_of = time.perf_counter(), 0, {}, []
+    t0, evals, widened, parent_of = time.perf_counter(), 0, {}, None
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
         pfit = fit_model(model, device, bounds, optimizer, seed, settings, substeps, None, overrides, None, mask,
                          (), True, widen)
@@ -91,7 +92,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
                          {k: v for k, v in overrides.items() if k in parent.names}, None, mask,
                          [n for n in per_test if n in parent.names], True, widen)
         start = nested_start(model, device, pfit.names, pfit.params, per_test)
-        evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), [parent.spec, float(pfit.of)]
+        evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), Parent(parent.spec, float(pfit.of))
     before, flat = None, []
     for rounds in range(WIDEN_ROUNDS + 1):
         fit = _fit_once(model, device, layout, bounds, {**widened, **overrides}, optimizer, seed, settings,
@@ -132,23 +133,22 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     p0 = None if start is None else np.clip(np.atleast_2d(np.asarray(start, dtype=float)), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)  # (k, n): one row, or the data's k candidates
     if local and x0 is not None and local_search:
-        x, of, history, evals = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0)
+        found = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0)
     elif local and x0 is not None:
-        count = [0]
+        count = Evaluations(1)
         x, of = polish(evaluate, x0[0], float(evaluate(x0[:1])[0]), WIDEN_EVALS, count)
-        history, evals = [of], count[0] + 1
+        found = Search(x, of, (of,), count.n, "Nelder-Mead from the widened round's start")
     elif optimizer == "de":
-        x, of, history, evals = run_de(evaluate, space.n, rng, settings, on_generation,
-                                       None if x0 is None else x0[0])
+        found = run_de(evaluate, space.n, rng, settings, on_generation, None if x0 is None else x0[0])
     elif local_search:
-        x, of, history, evals = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0)
+        found = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0)
     else:
-        x, of, history, evals = run_ga(evaluate, space.n, rng, settings, on_generation)
+        found = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
-            count = [evals]
-            x, of = polish(evaluate, x, of, 4000, count)
-            evals = count[0]
-            history.append(of)
+            count = Evaluations(found.evaluations)
+            x, of = polish(evaluate, found.x, found.of, 4000, count)
+            found = Search(x, of, found.history + (of,), count.n, found.stop + ", then Nelder-Mead")
+    x, of = found.x, found.of
     params = space.to_params(x)
     if p0 is not None:  # the start itself, exactly (not through the unit cube)
         of0 = joint_objective(model, device, layout, p0, mask, substeps)
@@ -156,7 +156,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
             params, of = p0[int(np.argmin(of0))], float(np.min(of0))
     return FitResult(spec=model.spec, names=layout.names, units=layout.repeat(model.units),
                      params=params, of=float(of), bounds=b, bounds_mode=mode,
-                     optimizer=optimizer, seed=seed, evaluations=int(evals), history=history,
+                     optimizer=optimizer, seed=seed, evaluations=int(found.evaluations),
+                     history=list(found.history), stop=found.stop,
                      record=device.name, log=[bool(v) for v in space.log],
                      off=layout.repeat(model.off_values()), tests=list(device.test_names))
 
@@ -236,10 +237,10 @@ def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "aut
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
     _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
-    x, of, history, _ = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
-                                  space.to_unit(start))
-    of0 = history[0]  # FROM_START's one sample: the start
-    return (start, of0) if of0 <= of else (space.to_params(x), float(of))
+    found = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
+                      space.to_unit(start))
+    of0 = found.history[0]  # FROM_START's one sample: the start
+    return (start, of0) if of0 <= found.of else (space.to_params(found.x), float(found.of))
 
 
 

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import differential_evolution, minimize
 
+from .search import Evaluations, Search
+
 
 #: with ``stall``: a generation's best that improves by less than this share does not count
 STALL_GAIN = 1e-9
@@ -30,25 +32,28 @@ class DESettings:
 
 
 def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESettings(), on_generation=None,
-           x0: np.ndarray | None = None):
-    """Minimise ``evaluate(X) -> OF`` over [0, 1]^n; returns (x, OF, history, evaluations).
+           x0: np.ndarray | None = None) -> Search:
+    """Minimise ``evaluate(X) -> OF`` over [0, 1]^n.
 
     ``x0`` (a point of the unit cube) replaces the first member of the initial
     population: the result is never worse than it (selection keeps the best)."""
     history: list[float] = []
-    count = [0]
+    count = Evaluations()
 
     def batch(xt):  # scipy passes (n, S)
         X = np.atleast_2d(xt.T)
-        count[0] += X.shape[0]
+        count.add(X.shape[0])
         return evaluate(X)
+
+    stalled = []
 
     def callback(intermediate_result):
         history.append(float(intermediate_result.fun))
         if on_generation:
             on_generation(len(history), history[-1])
-        if s.stall and len(history) > s.stall:
-            return not history[-1] < history[-1 - s.stall] * (1.0 - STALL_GAIN)
+        if s.stall and len(history) > s.stall and not history[-1] < history[-1 - s.stall] * (1.0 - STALL_GAIN):
+            stalled.append(len(history))
+            return True
         return False
 
     res = differential_evolution(
@@ -56,18 +61,21 @@ def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESetting
         rng=rng, vectorized=True, updating="deferred", polish=False, callback=callback,
         init="sobol" if n > 1 else "latinhypercube", mutation=(0.5, 1.0), recombination=0.9,
         x0=None if x0 is None else np.clip(x0, 0.0, 1.0))
+    stop = (f"DE: no better point in {s.stall} generations" if stalled
+            else f"DE: {res.message.rstrip('.')} after {res.nit} generations")
     x, fx = np.clip(res.x, 0.0, 1.0), float(res.fun)
     if s.polish:
         x, fx = polish(evaluate, x, fx, s.polish_evals, count)
         history.append(fx)
-    return x, fx, history, count[0]
+        stop += ", then Nelder-Mead"
+    return Search(x, fx, tuple(history), count.n, stop)
 
 
-def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, count: list, step: float = 0.02):
+def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, count: Evaluations, step: float = 0.02):
     """Nelder-Mead from x0 inside the unit cube (points outside are clipped),
-    its first simplex ``step`` wide."""
+    its first simplex ``step`` wide: (x, OF), never worse than (x0, f0)."""
     def single(x):
-        count[0] += 1
+        count.add(1)
         return float(evaluate(np.clip(x, 0.0, 1.0)[None, :])[0])
 
     simplex = [x0] + [np.clip(x0 + np.eye(x0.size)[i] * (step if x0[i] < 0.5 else -step), 0, 1)

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .search import Search
+
 
 @dataclass(frozen=True)
 class GASettings:
@@ -30,10 +32,9 @@ class GASettings:
     elite: int = 1
 
 
-def run_ga(evaluate, n: int, rng: np.random.Generator, s: GASettings = GASettings(), on_generation=None):
+def run_ga(evaluate, n: int, rng: np.random.Generator, s: GASettings = GASettings(), on_generation=None) -> Search:
     """Minimise ``evaluate(X) -> OF`` over the unit cube [0, 1]^n.
 
-    Returns (best x, best OF, history of best OF per generation, evaluations).
     ``on_generation(gen, best_of)`` is called after every generation.
     """
     X = rng.random((s.pop, n))
@@ -65,9 +66,12 @@ def run_ga(evaluate, n: int, rng: np.random.Generator, s: GASettings = GASetting
         if on_generation:
             on_generation(gen, history[-1])
         if stalled >= s.stall:
+            stop = f"GA: no better point in {s.stall} generations (generation {gen + 1})"
             break
+    else:
+        stop = f"GA: all {s.gens} generations"
     best = int(np.argmin(f))
-    return X[best], float(f[best]), history, evaluations
+    return Search(X[best], float(f[best]), tuple(history), evaluations, stop)
 
 
 def _evaluate_new(evaluate, children: np.ndarray, parents: np.ndarray, f_parents: np.ndarray):

@@ -41,6 +41,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from .de import DESettings, polish, run_de
+from .search import Evaluations, Search
 from .trf import least_squares_soft_l1, strictly_inside
 
 
@@ -108,28 +109,26 @@ def _starts(X: np.ndarray, of: np.ndarray, k: int, given: int = 0) -> list[int]:
 
 
 def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSettings = LocalSettings(),
-              on_generation=None, x0: np.ndarray | None = None):
+              on_generation=None, x0: np.ndarray | None = None) -> Search:
     """Minimise eq. 18 over [0, 1]^n: ``evaluate(X) -> OF`` (pop,), and
-    ``residuals(X) -> R`` (pop, m) with sum |R| = OF.  Returns (x, OF,
-    history, evaluations) as ``run_de`` does; the result is never worse
-    than ``x0``'s (one point, or (k, n): the local search solves from each)."""
-    x, of, history, evals, ends = _local(evaluate, residuals, n, rng, s, on_generation, x0)
+    ``residuals(X) -> R`` (pop, m) with sum |R| = OF; the result is never
+    worse than ``x0``'s (one point, or (k, n): the local search solves from each)."""
+    found, ends = _local(evaluate, residuals, n, rng, s, on_generation, x0)
     two_basins = len(ends) > 1 and max(ends) > min(ends) * (1.0 + DOUBT)  # there may be a third, lower
     if s.always_check or two_basins:
-        x, of, more, check_evals = _check(evaluate, residuals, n, rng, s.search, on_generation, x, of)
-        history, evals = history + more, evals + check_evals
-    return x, of, history, evals
+        found = found.then(_check(evaluate, residuals, n, rng, s.search, on_generation, found.x, found.of))
+    return found
 
 
 def _local(evaluate, residuals, n, rng, s, on_generation, x0):
-    """``run_local``, and the OF at which each distinct basin's solve ended."""
-    count = [0]
+    """(``run_local``'s Search, the OF at which each distinct basin's solve ended)."""
+    count = Evaluations()
     sampler = qmc.Sobol(n, scramble=True, seed=rng)
     x0 = np.empty((0, n)) if x0 is None else np.clip(np.atleast_2d(x0), 0.0, 1.0)
     X = sampler.random(max(s.samples, len(x0)))
     X[:len(x0)] = x0
     of = evaluate(X)
-    count[0] += len(X)
+    count.add(len(X))
     history = [float(np.min(of))]
 
     last = {}  # the last point's residuals and Jacobian
@@ -140,7 +139,7 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
             x = np.clip(x, 0.0, 1.0)
             h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
             R = residuals(np.vstack([x, x[None, :] + np.diag(h)]))
-            count[0] += n + 1
+            count.add(n + 1)
             finite = np.isfinite(R)
             if finite.all():
                 r, J = R[0], ((R[1:] - R[0]) / h[:, None]).T
@@ -153,15 +152,18 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     def of_at(x):  # eq. 18 at the point the last solve ended on: its residuals' absolute sum, if at hand
         if "x" in last and np.array_equal(last["x"], x) and last["finite"]:
             return float(np.abs(last["r"]).sum())
-        count[0] += 1
+        count.add(1)
         return float(evaluate(x[None, :])[0])
 
     lower, upper = np.zeros(n), np.ones(n)
 
+    statuses: list[int] = []  # the solver's status of each solve (scipy's codes, -2: stopped in a known basin)
+
     def solve(x, shares, scale, callback=None):  # soft-L1 towards L1: each solve starts where the last ended
         for share in shares:
-            x, _, _ = least_squares_soft_l1(fun_jac, x, lower, upper, share * scale, s.max_nfev, 1e-10, 1e-10,
-                                            1e-10, callback)
+            x, status, _ = least_squares_soft_l1(fun_jac, x, lower, upper, share * scale, s.max_nfev, 1e-10,
+                                                 1e-10, 1e-10, callback)
+            statuses.append(int(status))
             x = np.clip(x, 0.0, 1.0)
         return x
 
@@ -176,7 +178,8 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
         if in_known_basin(x):
             raise StopIteration
 
-    for i in _starts(X, of, s.starts, len(x0)):
+    starts = _starts(X, of, s.starts, len(x0))
+    for i in starts:
         x = strictly_inside(X[i], lower, upper)  # where the solver starts: its residuals serve both
         scale = max(float(np.median(np.abs(fun_jac(x)[0]))), 1e-30)
         x = solve(x, SCALE_SHARES[:1], scale, stop_in_known_basin)
@@ -191,18 +194,33 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
             on_generation(len(history), min(best_of, f))
         if f < best_of:
             best_x, best_of = x, f
+    stop = (f"local: {len(ends)} basin(s) from {len(starts)} start(s); "
+            f"{_solves_in_words(statuses)}")
     if s.polish_evals:
         best_x, best_of = polish(evaluate, best_x, best_of, s.polish_evals, count, step=0.002)
         history.append(best_of)
-    return best_x, best_of, history, count[0], ends
+        stop += ", then Nelder-Mead"
+    return Search(best_x, best_of, tuple(history), count.n, stop), ends
 
 
-def _check(evaluate, residuals, n, rng, s: DESettings, on_generation, x, f):
+def _check(evaluate, residuals, n, rng, s: DESettings, on_generation, x, f) -> Search:
     """The global check of a local optimum x (OF f): DE seeded with it,
     stopped when nothing better appears; a better point found there is
-    solved locally again.  Returns (x, OF, history, evaluations)."""
-    xd, fd, history, evals = run_de(evaluate, n, rng, s, on_generation, x)
-    if fd < f:
-        x, f, more, local_evals, _ = _local(evaluate, residuals, n, rng, FROM_START, None, xd)
-        history, evals = history + more, evals + local_evals
-    return x, f, history, evals
+    solved locally again."""
+    found = run_de(evaluate, n, rng, s, on_generation, x)
+    if found.of < f:
+        found = found.then(_local(evaluate, residuals, n, rng, FROM_START, None, found.x)[0])
+    return found
+
+
+#: scipy's least-squares status codes, in words
+STATUS = {-2: "stopped in a known basin", 0: "iteration cap", 1: "gradient small", 2: "cost settled",
+          3: "step small", 4: "cost and step settled"}
+
+
+def _solves_in_words(statuses: list) -> str:
+    """'solves ended: cost settled 3, iteration cap 1'."""
+    if not statuses:
+        return "no solve"
+    counts = {code: statuses.count(code) for code in dict.fromkeys(statuses)}
+    return "solves ended: " + ", ".join(f"{STATUS.get(c, f'status {c}')} {k}" for c, k in counts.items())

@@ -3,10 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from .space import Space
+
+
+class Parent(NamedTuple):
+    """The nested fit a fit started from: its model's spec and its OF."""
+
+    spec: str
+    of: float
 
 
 @dataclass
@@ -31,7 +39,8 @@ class FitResult:
     tests: list = field(default_factory=list)  # the device's tests (one: the record)
     test_of: list = field(default_factory=list)  # OF (eq. 18) on each test
     widened: dict = field(default_factory=dict)  # {law parameter: (lower, upper)} automatic bounds widened
-    parent: list = field(default_factory=list)  # [spec, OF] of the nested fit it started from ([]: none)
+    parent: Parent | None = None  # the nested fit it started from
+    stop: str = ""  # why the search stopped (the back-end's ``Search.stop``)
     flat_ends: list = field(default_factory=list)  # parameters whose bound widened without lowering the OF
 
     def as_dict(self) -> dict:
@@ -44,6 +53,7 @@ class FitResult:
         d["log"] = [bool(x) for x in self.log]
         d["test_of"] = [float(x) for x in self.test_of]
         d["widened"] = {n: [float(lo), float(hi)] for n, (lo, hi) in self.widened.items()}
+        d["parent"] = [] if self.parent is None else [self.parent.spec, float(self.parent.of)]
         return d
 
     def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:
