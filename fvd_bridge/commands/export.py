@@ -151,10 +151,14 @@ def _fmu_check_record(cal, args):
 def run_fmu(args) -> int:
     """Build, validate and check the FMU; nothing is left at -o when a step fails."""
     from ..export.fmu import OF_BOUND, build_fmu, fmu_forces
+    from ..export.fmu_toolchain import toolchain_problem
 
     if not args.output.lower().endswith(".fmu"):
         raise InputError(f"-o {args.output}: the file name must end in .fmu")
     output_folder_exists(args.output)
+    problem = toolchain_problem()  # before any other word: building cannot work here
+    if problem:
+        raise InputError(problem)
     cal = Calibration.load(args.params, plugins=args.plugin)
     record = _fmu_check_record(cal, args)
     if args.check:
