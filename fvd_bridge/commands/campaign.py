@@ -13,6 +13,7 @@ The campaign file (YAML; relative paths are relative to the file):
     out: series_out
     acceptance: {velocity: 500, nominal_force: 300, tolerance: 0.15}   # all optional
     outliers: {k: 3.5}
+    bounds: {spec: 0.15, statistic: extremes}  # upper/lower-bound factors (campaign.bounds)
     executor: local                            # or dask; --executor wins
     scheduler: tcp://host:8786                 # dask only; --scheduler wins
 
@@ -33,7 +34,7 @@ import sys
 
 import yaml
 
-from ..campaign import acceptance, production
+from ..campaign import acceptance, bounds, production
 from ..campaign.acceptance import Acceptance
 from ..campaign.executors import Dask, Processes
 from ..campaign.outputs import write_outputs
@@ -50,7 +51,7 @@ from .calibrate import campaign_settings, option_parser, parse_option, unique_na
 from .common import read_records
 
 #: keys only a campaign file has (calibrate's options are the rest)
-CAMPAIGN_KEYS = ("records", "devices", "rig", "models", "acceptance", "outliers", "executor", "scheduler")
+CAMPAIGN_KEYS = ("records", "devices", "rig", "models", "acceptance", "outliers", "bounds", "executor", "scheduler")
 #: calibrate options a campaign file does not take: (key, why)
 NOT_IN_FILE = {"laws": "use 'models'", "config": "the campaign file is the config", "quiet": "a command-line flag"}
 EXECUTORS = ("local", "dask")
@@ -146,6 +147,7 @@ def plan(path: str) -> dict:
     return {"cs": cs, "args": args, "base": base, "out": args.out, "rig": rig, "records": own.get("records"),
             "devices": own.get("devices"),
             "acceptance": Acceptance.from_dict(own.get("acceptance"), path), "k": k, "executor": executor,
+            "bounds": bounds.BoundSettings.from_dict(own.get("bounds"), path),
             "scheduler": own.get("scheduler"), "settings": settings}
 
 
@@ -217,6 +219,8 @@ def run(args) -> int:
                     nominal = rig_nominal(p["rig"])
                 made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
                 production.write(stage, made["prod"], made["accept"], figures)
+                made["bounds"] = bounds.compute(summary, records, cs, p["acceptance"], p["bounds"], made["accept"])
+                bounds.write(stage, made["bounds"])
 
             summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra, intervals=intervals,
                                     executor=own_pool)
@@ -224,9 +228,10 @@ def run(args) -> int:
         store.close()
     print(format_report(summary) if len(records) <= 6 else format_series(summary))
     print(production.format_production(made["prod"], made["accept"]))
+    print(bounds.format_bounds(made["bounds"]))
     print(f"\nunits: {resumable.total} ({resumable.resumed} resumed from {store.root}, {store.computed} computed "
           f"now{f', {len(store.corrupt)} corrupt redone' if store.corrupt else ''})")
     print(f"wrote {p['out']}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json, production.csv, "
-          f"outliers.csv{', acceptance.csv' if made['accept']['models'] else ''}, production.json"
+          f"outliers.csv{', acceptance.csv' if made['accept']['models'] else ''}, production.json, bounds.csv, bounds.json"
           f"{', figures/' if figures else ''})")
     return 0

@@ -26,6 +26,7 @@ import numpy as np
 from .._version import __version__
 from ..calibration import Calibration, common_tests, same_data
 from ..campaign import acceptance as series_acceptance
+from ..campaign import bounds as series_bounds
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
@@ -390,7 +391,9 @@ def _series_section(out: str) -> str:
 #: a production campaign's tables (``campaign.production``), as the report shows them
 PRODUCTION_TABLES = (("production.csv", "production statistics of the calibrated quantities"),
                      ("outliers.csv", "outliers: devices beyond the robust fences"),
-                     ("acceptance.csv", f"the series' acceptance: {series_acceptance.RULE} ({series_acceptance.SOURCE})"))
+                     ("acceptance.csv", f"the series' acceptance: {series_acceptance.RULE} ({series_acceptance.SOURCE})"),
+                     ("bounds.csv", f"upper- and lower-bound properties (nominal: the series' mean; units in 'unit'): "
+                                    f"{series_bounds.RULE} ({series_bounds.SOURCE})"))
 
 
 def _csv_table(out: str, name: str, caption: str) -> str:
