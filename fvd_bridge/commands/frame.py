@@ -57,6 +57,11 @@ def add_parser(sub):
     p.add_argument("--design-drift", type=float, metavar="RATIO",
                    help="roof drift ratio the dampers are sized at and their damping estimated at, e.g. 0.01 "
                         "(default: the bare frame's peak under the record)")
+    p.add_argument("--bounds", metavar="CAMPAIGN|LMIN,LMAX",
+                   help="also run each damper as its upper- and lower-bound device and report the envelope of "
+                        "drift and damper force with the bound that governs each: a campaign's output folder "
+                        "(or its bounds.json: each model's factors on the force at the design velocity, the "
+                        "device first brought to the series' nominal force) or two factors, e.g. 0.85,1.2")
     p.add_argument("--building", default="3-story", choices=BUILDINGS, help="frame (default 3-story)")
     p.add_argument("--laws", help="only these models, e.g. 2,9 or 2+friction (default all given)")
     p.add_argument("--rank-on", metavar="FILE",
@@ -161,6 +166,12 @@ def load_inputs(args):
                   file=sys.stderr)
     if args.scale_pga:
         motion = motion.scaled_to_pga(args.scale_pga)
+    if args.bounds is not None:
+        from ..frames.bounds import read_bounds
+
+        args.bounds_read = read_bounds(args.bounds)
+        for cal in cals:
+            args.bounds_read.factors(cal.spec)  # every model has factors: refused before any analysis
     return cals, building_of(args), motion, (read_record(args.rank_on) if args.rank_on else None)
 
 
@@ -169,7 +180,7 @@ def sizing_command(args, target: float = 0.20) -> str:
     import shlex
 
     words = ["fvd-bridge", "frame", *args.params, "--record", args.record]
-    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift"):
+    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift", "bounds"):
         if getattr(args, name) is not None:
             words += [f"--{name.replace('_', '-')}", f"{getattr(args, name):g}" if isinstance(getattr(args, name), float)
                       else str(getattr(args, name))]
@@ -202,17 +213,20 @@ def run(args) -> int:
     dampers = f"{args.dampers_per_story} damper(s) per story" + (
         f", each the device x{args.scale_force:g} in force" if args.scale_force != 1.0 else "")
     progress(f"dampers: {dampers}; forces per damper")
+    if getattr(args, "bounds_read", None) is not None:
+        progress(f"bounds: {args.bounds_read.source}: each damper as nominal, upper- and lower-bound device")
     try:
         with timing.stage("frame analyses"):
             cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
                               per_story=args.dampers_per_story, scale=args.scale_force, rank_on=rank_on,
-                              target_damping=args.target_damping, design_drift=args.design_drift)
+                              target_damping=args.target_damping, design_drift=args.design_drift,
+                              bounds=getattr(args, "bounds_read", None))
         settings = {"dampers_per_story": args.dampers_per_story, "scale_force": args.scale_force,
                     "energy_kept": motion.source.get("energy_kept", 1.0), "target_damping": args.target_damping,
-                    "design_drift": args.design_drift, "sizing_command": sizing_command(args)}
+                    "design_drift": args.design_drift, "sizing_command": sizing_command(args), "bounds": args.bounds}
         with timing.stage("outputs, figures"):
             summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures,
-                                          settings=settings, log=log.name)
+                                          settings=settings, log=log.name, bounds=getattr(args, "bounds_read", None))
     finally:
         os.unlink(log.name)
     print(format_frame_table(cases, summary["series"], summary["verdict_lines"]))

@@ -32,6 +32,7 @@ from ..records.cycles import reversals
 from ..records.readers import read_as_stored
 from ..export.opensees import opensees_export
 from . import decay, sizing
+from .bounds import expand
 from .analysis import FrameResult, run_frame
 from .model import DAMPER_TAGS_FROM
 
@@ -73,6 +74,8 @@ class Case:
     scale: float = 1.0  # each damper is the calibrated device with its force times this
     design: object = None  # sizing.Design: its dampers in the first mode's design cycle (energy method)
     achieved: float | None = None  # supplemental damping ratio [-] the frame achieved (free-vibration decay)
+    bound: str | None = None  # 'nominal', 'upper', 'lower' with frame --bounds (frames.bounds); None without
+    bound_lambda: float = 1.0  # the bound's factor on the nominal damper's force [-]
 
     def supplemental_damping(self) -> dict | None:
         """{'target', 'estimated' (energy method), 'achieved' (decay; None:
@@ -151,7 +154,7 @@ def _exceeded(case: Case, cal=None) -> list:
 
 def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=None, dt_analysis=None,
               progress=None, per_story: int = 1, scale: float = 1.0, rank_on=None,
-              target_damping: float | None = None, design_drift: float | None = None) -> list[Case]:
+              target_damping: float | None = None, design_drift: float | None = None, bounds=None) -> list[Case]:
     """The bare frame, then one analysis per calibration (fvd_bridge.calibration.Calibration).
 
     The models rank on the same data (``rank_common``): ``rank_on``, a test
@@ -172,7 +175,9 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
     express runs as the damper FMU in co-simulation with the frame
     (``cosim.cosimulate_frame``, explicit scheme: the frame takes the forces
     of the step before), its note saying so; one the FMU cannot carry
-    either is kept as a case without result, its note saying why."""
+    either is kept as a case without result, its note saying why.
+    ``bounds`` (frames.bounds.Bounds): each calibration runs as its nominal,
+    upper- and lower-bound damper (``bounds.expand``)."""
     runs = [(Case("bare frame", None, None, None), None, None)]
     for cal in calibrations:
         device = cal.device or (cal.record or {}).get("name") or "device"
@@ -189,8 +194,8 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
             if case.fmu:
                 case.note = (f"co-simulated with its FMU, explicit scheme, step {COSIM_STEP:g} s at most "
                              f"(OpenSees: {exc})")
-        runs.append((case, commands, cal))
-    rank_common([case for case, _, _ in runs[1:]], calibrations, rank_on)
+        runs += [(each, commands, cal) for each in (expand(case, cal, bounds) if bounds is not None else [case])]
+    rank_common([case for case, _, _ in runs[1:]], [cal for _, _, cal in runs[1:]], rank_on)
     mode = sizing.first_mode(building)
     drift, bare_decay = design_drift, None
     for case, commands, cal in runs:
@@ -201,7 +206,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
         if case.spec is not None:
             case.design = sizing.design(mode, cal, drift, target_damping, per_story * case.scale)
             if target_damping is not None:
-                case.scale = case.design.factor / per_story
+                case.scale = case.design.factor / per_story * case.bound_lambda
                 case.limits = _limits(cal, stroke_limit, force_limit, case.scale)
                 if progress:
                     progress(f"{case.label}: sized for {share(target_damping)} of critical damping at roof drift "
@@ -320,7 +325,7 @@ def series_spread(cases) -> dict:
     device); plus 'devices', 'of' (the mean calibration OF) and 'common_of'
     (the mean OF on the common record the models rank on; None: none)."""
     out = {}
-    ran = [c for c in cases if c.spec is not None and c.result is not None and c.result.solver.completed]
+    ran = [c for c in nominal(cases) if c.spec is not None and c.result is not None and c.result.solver.completed]
     for spec in dict.fromkeys(c.spec for c in ran):
         group = [c for c in ran if c.spec == spec]
         values = [c.values() for c in group]
@@ -337,6 +342,11 @@ def series_spread(cases) -> dict:
         stats["n_params"] = group[0].n_params
         out[spec] = stats
     return out
+
+
+def nominal(cases) -> list:
+    """The cases without bounds or of the nominal damper (``frame --bounds`` runs three per calibration)."""
+    return [c for c in cases if getattr(c, "bound", None) in (None, "nominal")]
 
 
 def unfinished(cases) -> list[str]:
@@ -393,6 +403,7 @@ def verdict_lines(spread: dict, cases=(), resize: str | None = None) -> list[str
       size them (``resize``, a command line);
     - an analysis that did not reach its end (in ``cases``) is left out, and said so."""
     gone = unfinished(cases)
+    cases = nominal(cases)  # the bounds' own lines: frames.bounds.envelope_lines
     left_out = [f"left out, the analysis did not reach its end: {'; '.join(gone)}"] if gone else []
     if not spread:
         return ["no damper model ran to the end"] + left_out

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..io.staging import safe_name, staged_dir, write_csv_rows, write_json
 from ..report.numbers import rounded, share, with_unit
+from . import bounds as damper_bounds
 from .compare import QUANTITIES, series_spread, verdict_lines
 
 
@@ -28,15 +29,16 @@ def _num(x):
 
 
 def write_frame_outputs(out: str, building, motion, cases, figures: bool = True, settings: dict | None = None,
-                        log: str | None = None) -> dict:
+                        log: str | None = None, bounds=None) -> dict:
     """Write the tables, histories and figures; returns the summary dict (its
     'series' the spread over the devices, its 'verdict' the verdict's text).
     ``settings``: the run's (dampers per story, force scale, the record's
     share kept; 'sizing_command': the command line the verdict gives for
     sizing dampers too small to matter) into the summary; ``log``:
-    OpenSees' own messages, kept as opensees.log."""
+    OpenSees' own messages, kept as opensees.log; ``bounds``: the
+    frames.bounds.Bounds the cases ran with (the envelope: 'bounds')."""
     spread = series_spread(cases)
-    lines = verdict_lines(spread, cases, (settings or {}).get("sizing_command"))
+    lines = verdict_lines(spread, cases, (settings or {}).get("sizing_command")) + damper_bounds.envelope_lines(cases)
     text = "; ".join(lines)
     with staged_dir(out) as stage:
         header = ["case", "model", "device", "calibration_of"] + [f"{k} [{u}]" for k, _, u in QUANTITIES] + [
@@ -61,7 +63,8 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
             if c.result is None or c.result.damper_deformation is None:
                 continue
             for k in range(c.result.damper_deformation.shape[1]):
-                name = f"{safe_name(c.device)}_law{safe_name(c.spec)}_story{k + 1}.csv"
+                bound = f"_{c.bound}" if c.bound in ("upper", "lower") else ""
+                name = f"{safe_name(c.device)}_law{safe_name(c.spec)}{bound}_story{k + 1}.csv"
                 write_csv_rows(os.path.join(hist, name), ["t", "d"],
                                [[f"{t:.6g}", f"{d:.9g}"] for t, d in zip(c.result.t, c.result.damper_deformation[:, k])])
         summary = {"building": building.name, "motion": motion.name, "motion_source": motion.source,
@@ -74,9 +77,11 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                                                      "quantities": ({k: _num(x) for k, x in c.values().items()}
                                                                     if c.result else None),
                                                      "supplemental_damping": c.supplemental_damping(),
+                                                     "bound": c.bound, "force_factor": c.scale,
                                                      "design": _design_rows(c)}
                                                     for c in cases],
-                   "series": spread, "verdict": text, "verdict_lines": lines, "settings": settings or {}}
+                   "series": spread, "verdict": text, "verdict_lines": lines, "settings": settings or {},
+                   "bounds": damper_bounds.summary(cases, bounds)}
         write_json(os.path.join(stage, "frame_summary.json"), summary)
         if log and os.path.isfile(log):
             shutil.copyfile(log, os.path.join(stage, "opensees.log"))
