@@ -153,6 +153,12 @@ def load_inputs(args):
         cals = [c for c in cals if c.spec in wanted]
         if not cals:
             raise InputError(f"--laws {args.laws}: none of the calibration files holds these models")
+    if args.bounds is not None:
+        from ..frames.bounds import read_bounds
+
+        args.bounds_read = read_bounds(args.bounds)
+        for cal in cals:
+            args.bounds_read.factors(cal.spec)  # every model has factors: refused before any analysis
     motion = read_motion(args.record, component=args.component, units=args.units)
     if args.duration:
         whole = motion
@@ -166,12 +172,6 @@ def load_inputs(args):
                   file=sys.stderr)
     if args.scale_pga:
         motion = motion.scaled_to_pga(args.scale_pga)
-    if args.bounds is not None:
-        from ..frames.bounds import read_bounds
-
-        args.bounds_read = read_bounds(args.bounds)
-        for cal in cals:
-            args.bounds_read.factors(cal.spec)  # every model has factors: refused before any analysis
     return cals, building_of(args), motion, (read_record(args.rank_on) if args.rank_on else None)
 
 

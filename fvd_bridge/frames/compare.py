@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -207,6 +207,8 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
             case.design = sizing.design(mode, cal, drift, target_damping, per_story * case.scale)
             if target_damping is not None:
                 case.scale = case.design.factor / per_story * case.bound_lambda
+                # a bound's dampers: the nominal's sized ones times its factor (frames.bounds)
+                case.design = replace(case.design, factor=case.design.factor * case.bound_lambda)
                 case.limits = _limits(cal, stroke_limit, force_limit, case.scale)
                 if progress:
                     progress(f"{case.label}: sized for {share(target_damping)} of critical damping at roof drift "
