@@ -112,7 +112,7 @@ class BoundSettings:
         return asdict(self)
 
 
-def test_factors(x, settings: BoundSettings) -> tuple[float, float, str]:
+def scatter_factors(x, settings: BoundSettings) -> tuple[float, float, str]:
     """(lambda_test,min, lambda_test,max, note) of one quantity's values over
     the devices ``x`` about their mean (module doc); NaN and the reason where
     the mean is not positive."""
@@ -149,7 +149,7 @@ def design_forces(model, params: np.ndarray, motion) -> np.ndarray:
 
 def _row(quantity: str, unit: str, values, settings: BoundSettings, note: str = "") -> dict:
     x = np.asarray(values, dtype=float)
-    t_min, t_max, why = test_factors(x, settings) if not note else (np.nan, np.nan, note)
+    t_min, t_max, why = scatter_factors(x, settings) if not note else (np.nan, np.nan, note)
     l_min, l_max = combined(t_min, t_max, settings)
     nominal = float(np.mean(x)) if x.size else np.nan
     return {"quantity": quantity, "unit": unit, "nominal": nominal, "test_min": t_min, "test_max": t_max,
