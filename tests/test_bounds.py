@@ -189,3 +189,21 @@ def test_frame_bounds_bad_input_is_one_line_and_writes_nothing(series, shared_di
         assert res.returncode == 2, res.stderr
         assert says in res.stderr and len(res.stderr.strip().splitlines()) == 1 and "Traceback" not in res.stderr
         assert not fr.exists()
+
+
+def test_bounds_scale_the_dampers_sized_on_the_nominal(series, shared_dir, tmp_path):
+    """--target-damping sizes the nominal damper; the bounds are it x lambda: their energy-method damping is the
+    target x lambda, and the free-vibration decay (measured apart from the formula) orders them the same way."""
+    folder, out, _ = series
+    fr = tmp_path / "sized"
+    res = _frame(shared_dir, fr, out / "params" / "device_03" / "law2.yaml", "--bounds", "0.8,1.25",
+                 "--target-damping", "0.1")
+    assert res.returncode == 0, res.stderr[-3000:]
+    cases = {c["bound"]: c for c in json.loads((fr / "frame_summary.json").read_text())["cases"] if c["model"]}
+    for bound, lam in (("nominal", 1.0), ("upper", 1.25), ("lower", 0.8)):
+        damping = cases[bound]["supplemental_damping"]
+        assert damping["estimated"] == pytest.approx(0.1 * lam, rel=1e-9)
+        assert cases[bound]["force_factor"] == pytest.approx(cases["nominal"]["force_factor"] * lam, rel=1e-9)
+        assert damping["achieved"] == pytest.approx(0.1 * lam, rel=0.2)
+    achieved = {b: c["supplemental_damping"]["achieved"] for b, c in cases.items()}
+    assert achieved["lower"] < achieved["nominal"] < achieved["upper"]
