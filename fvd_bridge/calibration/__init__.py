@@ -1,0 +1,14 @@
+"""The calibration: one calibrated model of one device, the contract
+between identification and every exporter (OpenSees, FMU, frames, compare).
+
+``core``: the Calibration and its parameters; ``schema``: the file (save,
+load, checks); ``text``: the fit report; ``tested``: where it holds and
+which calibrations rank together.
+"""
+
+from .core import Calibration, FittedParameter
+from .schema import SCHEMA_VERSION, record_provenance
+from .tested import common_tests, data_key, same_data
+
+__all__ = ["Calibration", "FittedParameter", "SCHEMA_VERSION", "common_tests", "data_key", "record_provenance",
+           "same_data"]

@@ -1,0 +1,226 @@
+"""The calibration file's schema:  ``Calibration.save`` writes it,
+``Calibration.load`` reads it (schema_version 3; 2, and 1 as written by
+fvd_bridge 0.1) and refuses a malformed file with a one-line message naming
+the file and key.  Schema 3 (YAML; kN, mm, s)::
+
+    schema_version: 3
+    kind: fvd_bridge.calibration
+    fvd_bridge_version: '0.2.0'
+    model: 2+friction                    # the spec: law number + effects
+    law: {number, name, equation, source}
+    effects: [{name, equation, summary}, ...] (summary: what the effect is and, for a
+             spring, where it sits: series_stiffness or oil_column)
+    units: {force: kN, displacement: mm, time: s}
+    parameters:                          # model order: the law's, then 'effect.param'
+      C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs,
+          stderr, ci95: [lo, hi],          # bootstrap intervals (fit.intervals), when computed
+          per_test: {TEST: value}, per_test_ci95: {TEST: [lo, hi]}}   # a parameter fitted per test
+    derived:                             # quantities of the parameters (law 8: mu*N)
+      mu*N: {value, unit, description, stderr, ci95}
+    intervals: {replicates, method, not_identified: [...]}   # when computed
+    correlation: {names: [...], matrix: [[...]]}
+    of: 0.0123                           # eq. 18 (a device's tests: their weighted mean)
+    of_mean_over_runs, of_sigma_over_runs
+    device: NAME                         # the device the tests belong to
+    tests:                               # every test fitted (one for a single record)
+      - {name, weight, of, range: {d [mm], v [mm/s], f [Hz]}, record: {...as below}}
+    tested_range: {d [mm], v [mm/s], F [kN], f: [lo, hi] [Hz]}   # envelope of the tests
+    record:                              # provenance of the (first) calibration record
+      name, file, format, samples, dt [s], columns {t, d, F[, v]}, window,
+      source_units {t, d, F[, v]}, velocity {method, ...}, peaks {F [kN], v [mm/s], d [mm]}
+    settings: {...}                      # optimizer, bounds, seed, plugins: [{file, sha256}], ...
+    warnings: [...]
+
+A file never runs code: ``settings.plugins`` names the plugin files of the
+model's effects (file name and sha256), and ``load`` imports a plugin only
+when its caller gives it (``plugins=``, ``--plugin``) and it matches.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import yaml
+
+from .._version import __version__
+from ..catalog import catalog_for, plugin_files, recorded_plugins
+from ..errors import InputError
+from ..fit.layout import SEP
+
+SCHEMA_VERSION = 3
+READABLE_SCHEMAS = (1, 2, 3)
+KIND = "fvd_bridge.calibration"
+UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
+
+
+def to_dict(cal) -> dict:
+    """The file's mapping of a Calibration (the module docstring)."""
+    law = cal.model.law
+    p_mean = cal.runs.get("p_mean", cal.values)
+    p_sigma = cal.runs.get("p_sigma", np.zeros(len(cal.values)))
+    derived_info = {d.name: d.description for d in law.derived}
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "kind": KIND,
+        "fvd_bridge_version": __version__,
+        "model": cal.spec,
+        "law": {"number": law.number, "name": law.name, "equation": law.equation, "source": law.source},
+        "effects": [{"name": e.name, "equation": e.equation, "summary": e.summary} for e in cal.model.effects],
+        "units": dict(UNITS),
+        "parameters": {
+            p.name: {"value": p.value, "unit": p.unit, "bounds": list(p.bounds),
+                     "mean_over_runs": float(m), "sigma_over_runs": float(s),
+                     **interval_entry(cal, p.name), **({"per_test": p.per_test} if p.per_test else {})}
+            for p, m, s in zip(cal.params.values(), p_mean, p_sigma)},
+        "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
+                           **{k: v for k, v in (cal.intervals.get("derived") or {}).get(name, {}).items()
+                              if k in ("stderr", "ci95")}}
+                    for name, (value, unit) in cal.derived().items()},
+        **({"intervals": {k: plain(cal.intervals.get(k)) for k in ("replicates", "method", "noise_of", "note",
+                                                                       "not_identified")},
+            "correlation": plain(cal.intervals["correlation"])} if cal.intervals else {}),
+        "of": float(cal.of),
+        "of_mean_over_runs": float(cal.runs.get("of_mean", cal.of)),
+        "of_sigma_over_runs": float(cal.runs.get("of_sigma", 0.0)),
+        "device": cal.device or cal.record.get("name"),
+        "tests": plain(cal.tests),
+        "tested_range": plain(cal.tested),
+        "record": plain(cal.record),
+        "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
+        "warnings": [str(w) for w in cal.warnings],
+    }
+
+
+def interval_entry(cal, name: str) -> dict:
+    """{stderr, ci95} of one parameter (with its per-test columns' ci95), or {}."""
+    given = (cal.intervals.get("parameters") or {})
+    if name not in given:
+        return {}
+    out = {"stderr": given[name]["stderr"], "ci95": given[name]["ci95"]}
+    per = {n.split(SEP)[1]: v["ci95"] for n, v in given.items() if n.startswith(name + SEP)}
+    if per:
+        out["per_test_ci95"] = per
+    return out
+
+
+def read(path: str, catalog=None, plugins=()) -> dict:
+    """The checked content of a calibration file as ``Calibration``'s
+    fields (``Calibration.load``); it imports nothing but the plugins given."""
+    data = _read_yaml(path)
+    if not isinstance(data, dict) or data.get("kind") != KIND:
+        raise InputError(f"{path}: not an fvd_bridge calibration file (key 'kind')")
+    if data.get("schema_version") not in READABLE_SCHEMAS:
+        raise InputError(f"{path}: key 'schema_version': {data.get('schema_version')!r} is not supported "
+                         f"(supported: {', '.join(map(str, READABLE_SCHEMAS))})")
+    settings = data.get("settings") or {}
+    if not isinstance(settings, dict):
+        raise InputError(f"{path}: key 'settings' must be a mapping")
+    catalog = catalog_for(path, data.get("model", ""), recorded_plugins(path, settings.get("plugins") or []),
+                          plugins, catalog)
+    try:
+        model = catalog.model(data.get("model", ""))
+    except InputError as exc:
+        raise InputError(f"{path}: key 'model': {exc}") from None
+    values, bounds, means, sigmas = _parameters(path, data.get("parameters"), model)
+    of = _number(path, "of", data.get("of"))
+    record = dict(data.get("record") or {})
+    if data["schema_version"] == 1:  # v1 kept no column mapping or source units
+        record.setdefault("columns", None)
+        record.setdefault("source_units", None)
+    runs = {"of_mean": data.get("of_mean_over_runs", of), "of_sigma": data.get("of_sigma_over_runs", 0.0),
+            "p_mean": means, "p_sigma": sigmas}
+    tests = data.get("tests") or [{"name": record.get("name"), "weight": 1.0, "of": of, "record": record,
+                                   "range": {k: (record.get("peaks") or {}).get(k) for k in ("d", "v")},
+                                   "parameters": {}}]
+    if not isinstance(tests, list) or not all(isinstance(t, dict) and "name" in t for t in tests):
+        raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
+    return {"model": model, "values": values, "of": of, "bounds": bounds, "record": record,
+            "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
+            "path": os.path.abspath(path), "tests": tests,
+            "device": str(data.get("device") or record.get("name") or ""), "intervals": _intervals(data)}
+
+
+def record_provenance(record) -> dict:
+    """The calibration file's 'record' block from a Record's provenance."""
+    prov = record.provenance
+    scales = record.scales()
+    return {"name": record.name, "file": prov.get("file"), "format": prov.get("format"),
+            "samples": record.n, "dt": record.dt, "columns": prov.get("columns"), "window": prov.get("window"),
+            "source_units": prov.get("units"), "reading": prov.get("reading"), "velocity": prov.get("velocity"),
+            "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
+
+
+def _intervals(data: dict) -> dict:
+    """The intervals of a loaded file, in Intervals.as_dict()'s form ({}: none)."""
+    if not data.get("intervals"):
+        return {}
+    params = {n: {"stderr": e["stderr"], "ci95": e["ci95"]} for n, e in data["parameters"].items() if "ci95" in e}
+    for n, e in data["parameters"].items():
+        for test, ci in (e.get("per_test_ci95") or {}).items():
+            params[f"{n}{SEP}{test}"] = {"stderr": None, "ci95": ci}
+    derived = {n: d for n, d in (data.get("derived") or {}).items() if "ci95" in d}
+    return {**data["intervals"], "parameters": params, "derived": derived, "correlation": data.get("correlation")}
+
+
+def _read_yaml(path: str):
+    try:
+        with open(path) as fh:
+            return yaml.safe_load(fh)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
+    except yaml.YAMLError as exc:
+        raise InputError(f"{path}: not valid YAML ({str(exc).splitlines()[0]})") from None
+
+
+def _number(path: str, key: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: key '{key}': {value!r} is not a number") from None
+    if not np.isfinite(x):
+        raise InputError(f"{path}: key '{key}' is not finite")
+    return x
+
+
+def _parameters(path: str, given, model):
+    """Values, bounds, run means and sigmas of the model's parameters, checked."""
+    if not isinstance(given, dict):
+        raise InputError(f"{path}: key 'parameters' must be a mapping")
+    values, bounds, means, sigmas = [], [], [], []
+    for name, unit in zip(model.names, model.units):
+        entry = given.get(name)
+        if not isinstance(entry, dict) or "value" not in entry:
+            raise InputError(f"{path}: key 'parameters.{name}' is missing (model {model.spec})")
+        if entry.get("unit") != unit:
+            raise InputError(f"{path}: key 'parameters.{name}.unit': '{entry.get('unit')}', expected '{unit}'")
+        value = _number(path, f"parameters.{name}.value", entry["value"])
+        values.append(value)
+        b = entry.get("bounds")
+        bounds.append([float(x) if x is not None else np.nan for x in b] if isinstance(b, list) and len(b) == 2
+                      else [np.nan, np.nan])
+        means.append(float(entry.get("mean_over_runs", value)))
+        sigmas.append(float(entry.get("sigma_over_runs", 0.0)))
+    extra = sorted(set(given) - set(model.names))
+    if extra:
+        raise InputError(f"{path}: key 'parameters.{extra[0]}' is not a parameter of model {model.spec}")
+    return np.array(values), np.array(bounds, dtype=float).reshape(-1, 2), np.array(means), np.array(sigmas)
+
+
+def num(x):
+    """A finite float, else None."""
+    x = float(x)
+    return None if not np.isfinite(x) else x
+
+
+def plain(x):
+    """Numpy scalars and arrays, tuples -> plain YAML types."""
+    if isinstance(x, dict):
+        return {str(k): plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [plain(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return [plain(v) for v in x.tolist()]
+    if isinstance(x, np.generic):
+        return x.item()
+    return x

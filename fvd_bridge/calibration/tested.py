@@ -1,0 +1,101 @@
+"""Where a calibration holds: the range its tests covered (stroke,
+velocity, force, frequencies), what of a motion lies beyond it, and which
+calibrations' OFs rank (computed on the same tests)."""
+
+from __future__ import annotations
+
+from ..records.device import tested_range
+
+#: a motion counts as beyond the tested range from this share above its peaks
+TESTED_MARGIN = 0.05
+
+
+def tested(cal) -> dict:
+    """The tested range: peak stroke d [mm], velocity v [mm/s], force F [kN]
+    over every test, and the tests' frequencies f = (lowest, highest) in Hz (None: unknown)."""
+    ranges = [t.get("range") or {} for t in cal.tests]
+    peaks = (cal.record or {}).get("peaks") or {}
+    out = {k: max([r[k] for r in ranges if r.get(k)] + [peaks.get(k) or 0.0]) or None for k in ("d", "v")}
+    out["F"] = max([(t.get("record") or {}).get("peaks", {}).get("F") or 0.0 for t in cal.tests]
+                   + [peaks.get("F") or 0.0]) or None
+    f = [r["f"] for r in ranges if r.get("f")]
+    out["f"] = [min(f), max(f)] if f else None
+    return out
+
+
+def beyond_tested(cal, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
+    """What of a motion goes beyond the tested range: the model is there an extrapolation.
+
+    Parameters
+    ----------
+    motion : Record or dict
+        A record, or {d, v[, f]}: its peak stroke [mm], velocity [mm/s] and frequency [Hz].
+    margin : float
+        A peak counts as beyond from this share above the tests' (a
+        frequency: outside their band by this share).
+    what_of : str, optional
+        The motion's name in the messages (a dict's).
+
+    Returns
+    -------
+    list of str
+        One line per quantity beyond the tested range; [] inside it.
+    """
+    if isinstance(motion, dict):
+        name, mine = what_of or "the motion", motion
+    else:
+        name, mine = motion.name, tested_range(motion)
+    ref, where = tested(cal), cal.device or (cal.record or {}).get("name", "its record")
+    out = []
+    for key, what, unit in (("d", "stroke", "mm"), ("v", "velocity", "mm/s")):
+        if ref.get(key) and mine.get(key) and mine[key] > (1.0 + margin) * ref[key]:
+            out.append(f"{name}: peak {what} {mine[key]:.4g} {unit} is beyond the {ref[key]:.4g} {unit} "
+                       f"the model was calibrated on ({where}): an extrapolation")
+    f, (lo, hi) = mine.get("f"), ref.get("f") or (None, None)
+    if f and lo and not (1.0 - margin) * lo <= f <= (1.0 + margin) * hi:
+        out.append(f"{name}: dominant frequency {f:.3g} Hz is outside the {band(lo, hi)} the model was "
+                   f"calibrated on ({where}): an extrapolation")
+    return out
+
+
+def tested_text(cal) -> str:
+    """'tested up to 30 mm and 450 mm/s at 0.8-2.4 Hz (device sn101, 3 tests)': where the model holds."""
+    r = tested(cal)
+    parts = [f"{r[k]:.4g} {u}" for k, u in (("d", "mm"), ("v", "mm/s")) if r.get(k)]
+    freq = f" at {band(*r['f'])}" if r.get("f") else ""
+    n = len(cal.tests) or 1
+    where = f"device {cal.device or (cal.record or {}).get('name', '?')}, {n} test{'s' if n > 1 else ''}"
+    return f"tested up to {' and '.join(parts)}{freq} ({where}); beyond it the model extrapolates"
+
+
+def provenance_lines(cal) -> list[str]:
+    """What an export's header says of the calibration: its record and tested range."""
+    name = (cal.record or {}).get("name")
+    return [*([f"calibrated on record {name}"] if name else []), tested_text(cal)]
+
+
+def data_key(test: dict) -> tuple:
+    """What a test of a calibration holds: (its record file, else its name; its samples)."""
+    block = test.get("record") or {}
+    return (block.get("file") or test.get("name"), block.get("samples"))
+
+
+def same_data(calibrations) -> bool:
+    """Whether every calibration's OF was computed on the same tests (files
+    or names, samples, weights): only then do their OFs rank."""
+    return len({c.fitted_on for c in calibrations}) <= 1
+
+
+def common_tests(calibrations) -> list[dict]:
+    """The tests (as the first calibration holds them) every calibration was fitted on."""
+    calibrations = list(calibrations)
+    if not calibrations:
+        return []
+    shared = set.intersection(*({data_key(t) for t in c.tests} for c in calibrations))
+    return [t for t in calibrations[0].tests if data_key(t) in shared]
+
+
+def band(lo: float, hi: float) -> str:
+    """'0.8-2.4 Hz', or '2 Hz' when both ends read alike."""
+    a, b = f"{lo:.3g}", f"{hi:.3g}"
+    return f"{a} Hz" if a == b else f"{a}-{b} Hz"

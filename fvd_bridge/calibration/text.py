@@ -1,0 +1,87 @@
+"""A calibration as text: the fit report (sections as lmfit's fit_report)
+and the parameters' interval lines, every number rounded to its
+uncertainty (``report.numbers``)."""
+
+from __future__ import annotations
+
+from ..fit.layout import SEP
+from ..report.numbers import interval, rounded
+
+#: the report lists correlations of at least this magnitude (lmfit's default)
+REPORTED_CORRELATION = 0.1
+
+
+def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
+    """The fit report, as text (sections as lmfit's fit_report).
+
+    Parameters
+    ----------
+    min_correlation : float
+        Correlations of the parameters below this magnitude are left out.
+
+    Returns
+    -------
+    str
+        Model, fit statistics, variables with stderr and 95% intervals,
+        derived quantities, correlations and warnings.
+    """
+    law = cal.model.law
+    n = sum((t.get("record") or {}).get("samples") or 0 for t in cal.tests) or cal.record.get("samples")
+    lines = ["[[Model]]", f"    {cal.spec}: law {law.key} ({law.name}), {law.equation}"]
+    lines += [f"    + {e.name}: {e.equation}" for e in cal.model.effects]
+    lines += ["[[Fit Statistics]]",
+              f"    device:        {cal.device or cal.record.get('name')} ({len(cal.tests) or 1} test(s), "
+              f"{n} samples)",
+              f"    OF (eq. 18):   {cal.of:.6g}"]
+    lines += [f"    OF {t['name']}: {t['of']:.6g}" for t in cal.tests if len(cal.tests) > 1]
+    if cal.runs.get("of_sigma") is not None and cal.settings.get("runs", 1) > 1:
+        lines.append(f"    runs:          {cal.settings['runs']} (OF mean {cal.runs['of_mean']:.6g}, "
+                     f"sigma {cal.runs['of_sigma']:.2g})")
+    if cal.settings.get("optimizer"):
+        lines.append(f"    optimizer:     {cal.settings['optimizer']}, seed {cal.settings.get('seed')}")
+    lines += [f"    {cal.tested_text()}", "[[Variables]]"]
+    for p in cal.params.values():
+        bounds = "" if None in p.bounds else f"  (bounds [{p.bounds[0]:.4g}, {p.bounds[1]:.4g}])"
+        lines.append(f"    {p.text()}{bounds}")
+        lines += [f"        {test}: {v:.6g}" for test, v in p.per_test.items()]
+    if cal.derived():
+        lines.append("[[Derived]]")
+        lines += [f"    {name} = {value:.6g} {unit}" for name, (value, unit) in cal.derived().items()]
+    if not cal.intervals:
+        lines.append("    (no intervals: calibrate with intervals > 0)")
+    lines += [f"    not identified: {line}" for line in cal.intervals.get("not_identified") or []]
+    corr = cal.correlation
+    if corr:
+        names = list(corr)
+        pairs = sorted(((corr[a][b], a, b) for i, a in enumerate(names) for b in names[i + 1:]
+                        if abs(corr[a][b]) >= min_correlation), key=lambda x: -abs(x[0]))
+        lines.append(f"[[Correlations]] (unreported correlations are < {min_correlation:.3f})")
+        lines += [f"    C({a}, {b}) = {r:+.4f}" for r, a, b in pairs]
+    if cal.warnings:
+        lines.append("[[Warnings]]")
+        lines += [f"    {w}" for w in cal.warnings]
+    return "\n".join(lines)
+
+
+def interval_lines(cal) -> list[str]:
+    """'C = 39.87 kN/(mm/s)^alpha, 95% [39.9, 40.1] (stderr 0.05)' per
+    parameter and derived quantity, then what is not identified; [] without intervals."""
+    if not cal.intervals:
+        return []
+    given = cal.intervals["parameters"]
+    values = {**cal.named(), **{f"{n}{SEP}{t['name']}": v for t in cal.tests
+                                 for n, v in (t.get("parameters") or {}).items()}}
+    units = dict(zip(cal.model.names, cal.model.units))
+
+    def unit(name):
+        return "" if units.get(name.split(SEP)[0], "-") == "-" else f" {units[name.split(SEP)[0]]}"
+
+    out = [f"{n} = {rounded(values[n])}{unit(n)} (fixed by the caller)"
+           if e["ci95"][0] == e["ci95"][1] else
+           f"{n} = {rounded(values[n], e.get('stderr'))}{unit(n)}, 95% {interval(*e['ci95'], e.get('stderr'))}"
+           + (f" (stderr {rounded(e['stderr'], digits=2)})" if e.get("stderr") is not None else "")
+           for n, e in given.items() if n in values]
+    out += [f"{n} = {rounded(d['value'], d['stderr'])} {d['unit']}, 95% {interval(*d['ci95'], d['stderr'])} "
+            f"(stderr {rounded(d['stderr'], digits=2)})" for n, d in (cal.intervals.get("derived") or {}).items()]
+    out += [f"not identified: {line}" for line in cal.intervals.get("not_identified") or []]
+    return out + ([f"note: {cal.intervals['note']}"] if cal.intervals.get("note") else [])
