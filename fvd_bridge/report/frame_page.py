@@ -63,7 +63,9 @@ def frame_devices(out: str) -> str:
     laws: dict = {}
     for case in summary.get("cases", []):
         if case.get("device"):
-            laws.setdefault(case["device"], []).append(case["model"])
+            models = laws.setdefault(case["device"], [])
+            if case["model"] not in models:  # a model's bound cases are the same device and law
+                models.append(case["model"])
     return ", ".join(f"{escape(d)} (law{'s' if len(m) > 1 else ''} {escape(', '.join(m))})" for d, m in laws.items())
 
 
