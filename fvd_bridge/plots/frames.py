@@ -12,9 +12,14 @@ def _specs(cases):
     return list(dict.fromkeys(c.spec for c in cases if c.spec is not None and c.result is not None))
 
 
+#: line styles of a damper's upper and lower bound (frame --bounds)
+BOUND_STYLES = {"upper": ":", "lower": "-."}
+
+
 def drift_profiles(cases, title: str, path: str | None = None, ax=None):
-    """Peak interstory drift ratio per story: the bare frame, and per model the
-    mean over the series' devices with its min-max band."""
+    """Peak interstory drift ratio per story: the bare frame, per model the
+    mean over the series' devices with its min-max band, and (frame
+    --bounds) the mean of its upper- and lower-bound dampers."""
     fig, ax = axes(ax, 1, 2, figsize=(11, 5), layout="constrained")
     bare = next(c for c in cases if c.spec is None)
     stories = np.arange(1, bare.result.peak_drift_ratio.size + 1)
@@ -23,12 +28,22 @@ def drift_profiles(cases, title: str, path: str | None = None, ax=None):
         a.plot(100 * getattr(bare.result, attr) if attr == "peak_drift_ratio" else getattr(bare.result, attr),
                stories, "k--o", label="bare frame")
         for k, spec in enumerate(_specs(cases)):
-            rows = np.array([getattr(c.result, attr) for c in cases if c.spec == spec and c.result is not None])
-            rows = 100 * rows if attr == "peak_drift_ratio" else rows
             color = f"C{k % 10}"
-            a.plot(rows.mean(axis=0), stories, "-o", color=color, label=f"law {spec} ({len(rows)} devices)")
-            if len(rows) > 1:
-                a.fill_betweenx(stories, rows.min(axis=0), rows.max(axis=0), color=color, alpha=0.2)
+            for bound in (None, "nominal", "upper", "lower"):
+                rows = np.array([getattr(c.result, attr) for c in cases if c.spec == spec and c.result is not None
+                                 and getattr(c, "bound", None) == bound])
+                if not rows.size:
+                    continue
+                rows = 100 * rows if attr == "peak_drift_ratio" else rows
+                devices = f"{len(rows)} device{'s' if len(rows) > 1 else ''}"
+                if bound in BOUND_STYLES:
+                    a.plot(rows.mean(axis=0), stories, BOUND_STYLES[bound], marker=".", color=color,
+                           label=f"law {spec}, {bound} bound ({devices})")
+                    continue
+                a.plot(rows.mean(axis=0), stories, "-o", color=color,
+                       label=f"law {spec}{', nominal' if bound else ''} ({devices})")
+                if len(rows) > 1:
+                    a.fill_betweenx(stories, rows.min(axis=0), rows.max(axis=0), color=color, alpha=0.2)
         a.set_xlabel(label)
         a.set_ylabel("story (floor level for accelerations)")
         a.set_yticks(stories)

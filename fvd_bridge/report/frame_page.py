@@ -26,9 +26,10 @@ COLUMNS = (("drift", "drift", "%"), ("residual", "residual drift", "%"), ("pfa",
 #: each figure's caption: what it shows and what to look at
 CAPTIONS = {
     "drift_profiles.png": "Peak interstory drift per story (left) and peak floor acceleration per level (right); "
-                          "the bare frame dashed, a series' spread as a band. Look at the gap between the bare "
-                          "frame and the damped profiles (what the dampers do) against the gap between the models "
-                          "(what the choice of model changes).",
+                          "the bare frame dashed, a series' spread as a band, the upper- and lower-bound dampers "
+                          "(--bounds) dotted and dash-dotted. Look at the gap between the bare frame and the damped "
+                          "profiles (what the dampers do) against the gap between the models (what the choice of "
+                          "model changes) and between the bounds (what the series' scatter changes).",
     "damper_hysteresis.png": "Force against deformation of the story-1 dampers (all of the story), first device of "
                              "each model; the loop area is the energy dissipated. Look at whether the models' "
                              "loops coincide and whether the stroke stays within the tested one.",
@@ -87,7 +88,7 @@ def _quantities(case: dict, per_story: int) -> dict:
 
 def _notes_of(case: dict) -> list[str]:
     notes = list(case.get("exceeded") or [])
-    if case.get("model") and case.get("note"):
+    if case.get("model") and case.get("note") and not case.get("exact"):  # how OpenSees approximates the model
         notes.append(case["note"])
     if case.get("model") and case.get("response") is None:
         notes.insert(0, "skipped")
