@@ -123,7 +123,8 @@ def test_an_analysis_that_stops_early_is_left_out_of_the_verdict(series, tmp_pat
     verdict, which names it with the time it stopped at."""
     from types import SimpleNamespace
 
-    from fvd_bridge.frames.compare import Case, series_spread, verdict
+    from fvd_bridge.frames.compare import Case
+    from fvd_bridge.frames.verdict import series_spread, verdict
 
     out = tmp_path / "fr"
     res = frame(str(series / "cal" / "params" / "dev0"), "--record", str(series / "quake.txt"), "--out", str(out),

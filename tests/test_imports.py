@@ -75,3 +75,12 @@ def test_no_import_circles():
     known = modules()
     graph = {name: imports_of(name, path, known) for name, path in known.items()}
     assert cycles(graph) == []
+
+
+#: a module longer than this does more than one job (``../shared/STYLE.md``: small modules with one job)
+MODULE_LINES = 500
+
+
+def test_no_module_is_longer_than_one_job():
+    long = {name: n for name, path in modules().items() if (n := len(path.read_text().splitlines())) > MODULE_LINES}
+    assert not long, long

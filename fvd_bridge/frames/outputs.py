@@ -20,7 +20,8 @@ import numpy as np
 from ..io.staging import safe_name, staged_dir, write_csv_rows, write_json
 from ..report.numbers import rounded, share, with_unit
 from . import bounds as damper_bounds
-from .compare import QUANTITIES, series_spread, verdict_lines
+from .compare import QUANTITIES
+from .verdict import series_spread, verdict_lines
 
 
 def _num(x):

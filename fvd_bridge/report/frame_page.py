@@ -11,12 +11,11 @@ show is left out; a wide table scrolls inside its own box.
 
 from __future__ import annotations
 
-import base64
-import json
 import os
 from html import escape
 
 from .html import table
+from .parts import image, read_json
 from .numbers import rounded, share, with_unit
 
 #: the response columns: (key in a case's 'quantities', header, unit)
@@ -41,24 +40,9 @@ CAPTIONS = {
 SCROLL = "<div style='overflow-x:auto;max-width:100%'>{}</div>"
 
 
-def _image(path: str, caption: str) -> str:
-    with open(path, "rb") as fh:
-        data = base64.b64encode(fh.read()).decode("ascii")
-    return (f"<figure><img alt='{escape(os.path.basename(path))}' src='data:image/png;base64,{data}'>"
-            f"<figcaption>{escape(caption)}</figcaption></figure>")
-
-
-def _summary(out: str) -> dict | None:
-    path = os.path.join(out, "frame_summary.json")
-    if not os.path.isfile(path):
-        return None
-    with open(path) as fh:
-        return json.load(fh)
-
-
 def frame_devices(out: str) -> str:
     """'device_01 (laws 2, 9)': the devices of the folder's frame analysis, for the page's head ('' without one)."""
-    summary = _summary(out)
+    summary = read_json(os.path.join(out, "frame_summary.json"))
     if summary is None:
         return ""
     laws: dict = {}
@@ -181,7 +165,7 @@ def _dampers_line(out: str, summary: dict) -> str:
 
 def frame_section(out: str) -> str:
     """The frame analysis' section of the page ('' without frame_summary.json)."""
-    summary = _summary(out)
+    summary = read_json(os.path.join(out, "frame_summary.json"))
     if summary is None:
         return ""
     lines = summary.get("verdict_lines") or [summary.get("verdict", "")]
@@ -190,5 +174,5 @@ def frame_section(out: str) -> str:
     parts = ["<section id='frame'><style>#frame td,#frame th{white-space:nowrap}</style><h2>frame analysis</h2>",
              _dampers_line(out, summary), "<ul class='verdict'>" + "".join(f"<li>{escape(line)}</li>" for line in lines if line) + "</ul>",
              _sizing_tables(summary), "<h3>peak response</h3>", _response_table(summary), _series_table(summary),
-             *[_image(path, caption) for path, caption in figures], "</section>"]
+             *[image(path, caption) for path, caption in figures], "</section>"]
     return "\n".join(p for p in parts if p)

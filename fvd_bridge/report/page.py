@@ -12,10 +12,7 @@ nothing from another host, reads offline and survives being mailed.
 
 from __future__ import annotations
 
-import base64
-import csv
 import glob
-import json
 import os
 import re
 import shlex
@@ -25,8 +22,6 @@ import numpy as np
 
 from .._version import __version__
 from ..calibration import Calibration, common_tests, same_data
-from ..campaign import acceptance as series_acceptance
-from ..campaign import bounds as series_bounds
 from ..io.staging import atomic_file
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
@@ -35,8 +30,11 @@ from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
-from .html import NOTE_CHARS, calibration_table, table, zero_table
-from .numbers import cell, rounded, share, small_share
+from .html import calibration_table, table, zero_table
+from .numbers import rounded, share, small_share
+from .frame_page import frame_section
+from .parts import figure, read_json
+from .series_page import series_section
 
 STYLE = """body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
 .scroll{overflow-x:auto;max-width:100%;margin:.6em 0 1.2em}table.fvd{border-collapse:collapse}
@@ -50,71 +48,12 @@ p.answer{font-size:1.1em;background:#f3f6fb;border-left:4px solid #336;padding:.
 pre.next{background:#f6f6f6;padding:.5em .8em;white-space:pre-wrap;word-break:break-all}"""
 
 
-def _image(path: str, caption: str) -> str:
-    """A figure embedded as base64 PNG, with its caption: what to look at."""
-    with open(path, "rb") as fh:
-        data = base64.b64encode(fh.read()).decode("ascii")
-    return (f"<figure><img alt='{escape(caption)}' src='data:image/png;base64,{data}'>"
-            f"<figcaption>{escape(caption)} ({escape(os.path.basename(path))})</figcaption></figure>")
-
-
-#: what to look at in each figure a folder may hold, by its file name's pattern
-CAPTIONS = (
-    (r"loops_(?P<what>.+)_law(?P<spec>.+)\.png",
-     "law {spec} over the measured loops of {what}: force against displacement, against velocity and in "
-     "time; look where the model's line leaves the measurement (at the reversals, at the peaks, late cycles)"),
-    (r"of_bars\.png", "each model's OF per device (top) and its sigma over runs (bottom): a low, even bar is "
-                      "a model that fits every device; a tall sigma, a fit that depends on its start"),
-    (r"pareto\.png", "mean OF against the robustness index beta_r over the devices: the non-dominated models "
-                     "are the choices (lower-left is better)"),
-    (r"dispersion_law(?P<spec>.+)\.png", "law {spec}: each parameter's deviation from the series' mean per "
-                                         "device: the production scatter of the identified properties"),
-    (r"histogram_law(?P<spec>.+)\.png", "law {spec}: the calibrated quantities over the series, with the "
-                                        "robust fences: a bar beyond a fence is an outlier device"),
-    (r"acceptance\.png", "each device's force at the design velocity against the nominal band: a point outside "
-                         "the band fails"),
-    (r".*_where(_final)?\.png", "where the model fails: the residual in time, against displacement and velocity, "
-                                "on the loops and per cycle, beside the noise band; the candidates' OF (red: "
-                                "credited). Look for structure beyond the band"),
-    (r".*_ladder\.png", "the ladder: the OF after each effect added, against the noise floor"),
-    (r".*_compare\.png", "each calibrated model's force on the record it was not fitted to"),
-    (r"damper_hysteresis\.png", "the story-1 damper's force against its deformation for each model: loops of "
-                                "like size mean the model choice does not change the damper's work"),
-    (r"drift_profiles\.png", "peak interstory drift and floor acceleration per story, each model against the "
-                             "bare frame (dashed): the dampers' effect is the gap to the dashed line"),
-    (r"histories\.png", "roof displacement and the story-1 damper force in time: look at the peaks and the "
-                        "decay after the strong motion"),
-)
-
-
-def _caption(path: str) -> str:
-    """The caption of a figure by its file name (``CAPTIONS``); its name when none fits."""
-    name = os.path.basename(path)
-    for pattern, text in CAPTIONS:
-        found = re.fullmatch(pattern, name)
-        if found:
-            return text.format(**found.groupdict())
-    return name
-
-
-def _figure(path: str) -> str:
-    return _image(path, _caption(path))
-
-
 def _record(test: dict):
     """A calibration's test read again as it was calibrated, named as the test; None when its file is gone."""
     rec = read_as_stored(test.get("record") or {})
     if rec is not None:
         rec.name = test["name"]
     return rec
-
-
-def _json(path: str) -> dict | None:
-    """The JSON file at ``path``; None when it is not there."""
-    if not os.path.isfile(path):
-        return None
-    with open(path) as fh:
-        return json.load(fh)
 
 
 def _calibrations(out: str, plugins=()) -> dict:
@@ -345,7 +284,7 @@ def _device_section(out: str, shown: str, device: str, cals: list, series: dict,
     parts = [f"<section class='device' id='device-{escape(device)}'><h2>device {escape(device)}</h2>",
              f"<p class='answer'><b>{escape(lead.capitalize())} law {escape(best.spec)}</b> ({escape(why)}): "
              f"{escape(_how_good(best.of, floor))}.</p>",
-             calibration_table(best), *[_figure(p) for p in _loop_figures(out, device, best)]]
+             calibration_table(best), *[figure(p) for p in _loop_figures(out, device, best)]]
     where = _where_list(best, records)
     if where:
         parts += [f"<h3>where law {escape(best.spec)} fails</h3>", where]
@@ -354,65 +293,10 @@ def _device_section(out: str, shown: str, device: str, cals: list, series: dict,
     if others:
         parts.append("<h3>the other models</h3>")
         for cal in others:
-            parts += [calibration_table(cal), *[_figure(p) for p in _loop_figures(out, device, cal)]]
+            parts += [calibration_table(cal), *[figure(p) for p in _loop_figures(out, device, cal)]]
     parts += ["<h3>the tests</h3>", _tests_table(cals, records),
               _acceptance(device, cals, series, records, tolerance), _exports(out, device, cals, records), "</section>"]
     return "\n".join(p for p in parts if p)
-
-
-def _series_section(out: str) -> str:
-    """The series, after its devices: each model's mean OF and robustness,
-    the Pareto front, the dispersion, a production campaign's statistics;
-    nothing for fewer than two devices (no scatter over devices to show)."""
-    summary = _json(os.path.join(out, "summary.json"))
-    if summary is None:
-        return ""
-    devices = [d["name"] if isinstance(d, dict) else d for d in summary.get("devices", [])]
-    if len(devices) < 2:
-        return ""
-    rows = []
-    for spec, m in summary.get("models", {}).items():
-        of = m.get("of_mean")
-        of = sum(of) / len(of) if isinstance(of, list) else of
-        rows.append([f"law {spec}", rounded(of), rounded(m.get("beta"), digits=3),
-                     "yes" if m.get("non_dominated") else "", "; ".join(m.get("notes") or [])])
-    figs = [p for name in ("of_bars.png", "pareto.png") for p in [os.path.join(out, "figures", name)]
-            if os.path.isfile(p)]
-    figs += sorted(glob.glob(os.path.join(out, "figures", "dispersion_law*.png")))
-    figs += sorted(glob.glob(os.path.join(out, "figures", "histogram_law*.png")))
-    figs += [p for p in [os.path.join(out, "figures", "acceptance.png")] if os.path.isfile(p)]
-    production = [_csv_table(out, name, caption) for name, caption in PRODUCTION_TABLES]
-    return "\n".join(["<section id='series'><h2>the series</h2>",
-                      table(["model", "mean OF", "robustness index beta_r", "Pareto front", "notes"], rows,
-                            f"{len(devices)} devices: {', '.join(devices)}"),
-                      *[p for p in production if p], *[_figure(p) for p in figs], "</section>"])
-
-
-#: a production campaign's tables (``campaign.production``), as the report shows them
-PRODUCTION_TABLES = (("production.csv", "production statistics of the calibrated quantities"),
-                     ("outliers.csv", "outliers: devices beyond the robust fences"),
-                     ("acceptance.csv", f"the series' acceptance: {series_acceptance.RULE} ({series_acceptance.SOURCE})"),
-                     ("bounds.csv", f"upper- and lower-bound properties (nominal: the series' mean; units in 'unit'): "
-                                    f"{series_bounds.RULE} ({series_bounds.SOURCE})"))
-
-
-def _csv_table(out: str, name: str, caption: str) -> str:
-    """A CSV file of the folder as a table, its numbers rounded (``numbers.cell``), its columns of long
-    notes listed under it (the rows stay one line high); '' when it is not there or holds no row."""
-    path = os.path.join(out, name)
-    if not os.path.isfile(path):
-        return ""
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
-    if len(rows) < 2:
-        return ""
-    header, body = rows[0], rows[1:]
-    notes = [j for j in range(1, len(header)) if any(len(r[j]) > NOTE_CHARS and " " in r[j] for r in body if j < len(r))]
-    keep = [j for j in range(len(header)) if j not in notes]
-    listed = [f"<li><b>{escape(r[0])}</b>, {escape(header[j])}: {escape(r[j])}</li>"
-              for r in body for j in notes if j < len(r) and r[j]]
-    out = table([header[j] for j in keep], [[cell(r[j]) if j < len(r) else "" for j in keep] for r in body], caption)
-    return out + (f"<ul class='notes'>{''.join(listed)}</ul>" if listed else "")
 
 
 def _diagnosis_sections(out: str) -> str:
@@ -421,7 +305,7 @@ def _diagnosis_sections(out: str) -> str:
     model it is, the force zero and the figures."""
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_diagnose.json"))):
-        rep = _json(path)
+        rep = read_json(path)
         model = rep["model"]
         rows = [[c.get("spec") or f"{model}+{c['effect']}", rounded(c["of"]), small_share(c["improvement"]),
                  "yes" if c.get("significant") else "no", c.get("reason", "")] for c in rep.get("all_candidates", [])]
@@ -441,29 +325,23 @@ def _diagnosis_sections(out: str) -> str:
                         f"each effect added to law {model} and refitted (law {model} alone: OF {rounded(rep['of'])}, "
                         f"noise floor {rounded(rep['noise_floor_of'])})") if rows else "",
                   zero_table(rep["force_zero"], model) if rep.get("force_zero") else "",
-                  *[_figure(p) for p in figs], "</section>"]
+                  *[figure(p) for p in figs], "</section>"]
     return "\n".join(p for p in parts if p)
 
 
 def _compare_sections(out: str) -> str:
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_compare.json"))):
-        rep = _json(path)
+        rep = read_json(path)
         rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", rounded(m.get("of")),
                  rounded(m.get("of_calibration")), rounded(m.get("peak_force_kN"))] for m in rep.get("models", [])]
-        figure = path[:-len(".json")] + ".png"
+        png = path[:-len(".json")] + ".png"
         parts += [f"<section class='compare'><h2>calibrated models on {escape(os.path.basename(rep['record']))}</h2>",
                   table(["file", "model", "device", "OF here", "OF on its calibration", "peak force [kN]"], rows,
                         "prediction only (no measured force)" if rep.get("prediction_only") else
                         "best first (OF, eq. 18)"),
-                  *([_figure(figure)] if os.path.isfile(figure) else []), "</section>"]
+                  *([figure(png)] if os.path.isfile(png) else []), "</section>"]
     return "\n".join(parts)
-
-
-def _frame_section(out: str) -> str:
-    from .frame_page import frame_section  # the frame analysis' section: its own module
-
-    return frame_section(out)
 
 
 def _tolerance_of_page(path: str) -> float | None:
@@ -495,9 +373,9 @@ def build_report(out: str, tolerance: float | None = None, shown_as: str | None 
     diagnoses = _diagnosis_sections(out)
     body = [diagnoses, *[_device_section(out, shown, dev, c, series, tolerance, bool(diagnoses))
                          for dev, c in cals.items()],
-            _series_section(out), _compare_sections(out)]
+            series_section(out), _compare_sections(out)]
     if not cals and not any(body):
-        body.append(_frame_section(out))
+        body.append(frame_section(out))
     title = f"fvd_bridge report: {os.path.basename(os.path.abspath(shown))}"
     devices = ("; devices: " + ", ".join(f"<a href='#device-{escape(d)}'>{escape(d)}</a>" for d in cals)) if cals else ""
     page = (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{escape(title)}</title>"
