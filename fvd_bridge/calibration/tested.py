@@ -24,23 +24,8 @@ def tested(cal) -> dict:
 
 
 def beyond_tested(cal, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
-    """What of a motion goes beyond the tested range: the model is there an extrapolation.
-
-    Parameters
-    ----------
-    motion : Record or dict
-        A record, or {d, v[, f]}: its peak stroke [mm], velocity [mm/s] and frequency [Hz].
-    margin : float
-        A peak counts as beyond from this share above the tests' (a
-        frequency: outside their band by this share).
-    what_of : str, optional
-        The motion's name in the messages (a dict's).
-
-    Returns
-    -------
-    list of str
-        One line per quantity beyond the tested range; [] inside it.
-    """
+    """What of a motion (a Record, or {d, v[, f]}) goes beyond the tested
+    range: one line each (``Calibration.beyond_tested``)."""
     if isinstance(motion, dict):
         name, mine = what_of or "the motion", motion
     else:

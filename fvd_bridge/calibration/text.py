@@ -12,19 +12,9 @@ REPORTED_CORRELATION = 0.1
 
 
 def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
-    """The fit report, as text (sections as lmfit's fit_report).
-
-    Parameters
-    ----------
-    min_correlation : float
-        Correlations of the parameters below this magnitude are left out.
-
-    Returns
-    -------
-    str
-        Model, fit statistics, variables with stderr and 95% intervals,
-        derived quantities, correlations and warnings.
-    """
+    """The fit report as text (``Calibration.report``): model, fit
+    statistics, variables with stderr and 95% intervals, derived quantities,
+    correlations of at least ``min_correlation`` and warnings."""
     law = cal.model.law
     n = sum((t.get("record") or {}).get("samples") or 0 for t in cal.tests) or cal.record.get("samples")
     lines = ["[[Model]]", f"    {cal.spec}: law {law.key} ({law.name}), {law.equation}"]

@@ -36,6 +36,17 @@ SOURCE = "EN 15129:2018 7.3 (production tests of fluid viscous dampers)"
 TESTED_MARGIN = 0.05
 
 
+def section(data, name: str, keys, where: str) -> dict:
+    """A campaign file's ``name`` block, checked to be a mapping of known
+    ``keys`` (one line naming the file ``where`` and the key otherwise)."""
+    if not isinstance(data, dict):
+        raise InputError(f"{where}: key '{name}': expected a mapping ({', '.join(keys)})")
+    unknown = [k for k in data if k not in keys]
+    if unknown:
+        raise InputError(f"{where}: unknown key '{name}.{unknown[0]}' (known: {', '.join(keys)})")
+    return data
+
+
 @dataclass(frozen=True)
 class Acceptance:
     """Design velocity [mm/s], nominal force [kN] (None: from the rig's nominal
@@ -52,13 +63,8 @@ class Acceptance:
     def from_dict(cls, data, where: str) -> "Acceptance":
         if data is None:
             return cls()
-        if not isinstance(data, dict):
-            raise InputError(f"{where}: key 'acceptance': expected a mapping ({', '.join(KEYS)})")
-        unknown = [k for k in data if k not in KEYS]
-        if unknown:
-            raise InputError(f"{where}: unknown key 'acceptance.{unknown[0]}' (known: {', '.join(KEYS)})")
         values = {}
-        for key, value in data.items():
+        for key, value in section(data, "acceptance", KEYS, where).items():
             if value is None:
                 continue
             try:

@@ -56,7 +56,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.staging import write_csv_rows, write_json
 from ..report.numbers import rounded, share, with_unit
-from .acceptance import Acceptance, design_motion, forces_at_velocity
+from .acceptance import Acceptance, design_motion, forces_at_velocity, section
 
 #: bounds.json's schema
 SCHEMA_VERSION = 1
@@ -85,13 +85,8 @@ class BoundSettings:
     def from_dict(cls, data, where: str) -> "BoundSettings":
         if data is None:
             return cls()
-        if not isinstance(data, dict):
-            raise InputError(f"{where}: key 'bounds': expected a mapping ({', '.join(KEYS)})")
-        unknown = [k for k in data if k not in KEYS]
-        if unknown:
-            raise InputError(f"{where}: unknown key 'bounds.{unknown[0]}' (known: {', '.join(KEYS)})")
         values = {}
-        for key, value in data.items():
+        for key, value in section(data, "bounds", KEYS, where).items():
             if key == "statistic":
                 if value not in STATISTICS:
                     raise InputError(f"{where}: key 'bounds.statistic': '{value}' (expected {' or '.join(STATISTICS)})")
