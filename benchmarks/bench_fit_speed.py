@@ -10,7 +10,9 @@ noise.  For laws 2 and 9, best of 3 in one process:
   then a DE check) and ``de`` (DE and its Nelder-Mead polish, the default
   up to version 0.2.0);
 - the peer: scipy ``least_squares`` (the solver lmfit's ``least_squares``
-  method calls) on the plain residuals F_model - F from a data-driven start
+  method calls) on the plain residuals F_model - F, the law written in
+  plain numpy as its users write it (``plain_force``; not the project's
+  kernel), from a data-driven start
   (law 2: a log-log regression of |F| on |v| over the fastest half of the
   samples; law 9: C from the force's slope against v at speed, beta from
   the force at the velocity reversals, alpha 1/(0.1 x stroke)).
@@ -66,9 +68,32 @@ def start_of(law: str, rec) -> np.ndarray:
     return np.array([C, 1.0 / (0.1 * np.ptp(rec.d) / 2), beta])
 
 
+def plain_force(law: str, p: np.ndarray, rec) -> np.ndarray:
+    """The law's force [kN] as its users write it in plain numpy, not the
+    project's kernel: law 2 C sign(v)|v|^alpha; law 9 F = beta z + C v with
+    dz/dt = v - alpha |v| z stepped sample by sample in a Python loop (the
+    exact step for v constant over the sample: z relaxes towards
+    sign(v)/alpha at the rate alpha |v|)."""
+    v = rec.v
+    if law == "2":
+        C, alpha = p
+        return C * np.sign(v) * np.abs(v) ** alpha
+    C, alpha, beta = p
+    decay = np.exp(-alpha * np.abs(v) * rec.dt)
+    target = np.sign(v) / alpha
+    z = np.empty(rec.n)
+    zk = 0.0
+    for k in range(rec.n):
+        zk = target[k] + (zk - target[k]) * decay[k]
+        z[k] = zk
+    return beta * z + C * v
+
+
 def peer_fit(model, rec, x0, bounds):
+    law = model.spec
+
     def residuals(p):
-        return model.force(rec, p[None, :])[0] - rec.F
+        return plain_force(law, p, rec) - rec.F
     res = least_squares(residuals, np.clip(x0, bounds[:, 0], bounds[:, 1]), bounds=(bounds[:, 0], bounds[:, 1]),
                         method="trf", x_scale="jac")
     return res.x, float(objective(rec.F, model.force(rec, res.x[None, :])[0], rec.t))
@@ -84,7 +109,7 @@ def lmfit_fit(model, rec, x0, bounds):
         params.add(name, value=float(x), min=float(lo), max=float(hi))
 
     def residuals(p):
-        return model.force(rec, np.array([[p[n].value for n in model.names]]))[0] - rec.F
+        return plain_force(model.spec, np.array([p[n].value for n in model.names]), rec) - rec.F
     out = lmfit.minimize(residuals, params, method="least_squares")
     x = np.array([out.params[n].value for n in model.names])
     return x, float(objective(rec.F, model.force(rec, x[None, :])[0], rec.t))
