@@ -115,6 +115,19 @@ def lmfit_fit(model, rec, x0, bounds):
     return x, float(objective(rec.F, model.force(rec, x[None, :])[0], rec.t))
 
 
+def overhead(model, rec, wall: float, fit) -> str:
+    """Where the default fit's time goes: its parameter sets through the
+    kernel (timed in batches of n + 1, as its Jacobians run) and the rest
+    (the solver's and the package's Python per call)."""
+    n = len(model.names)
+    P = np.repeat(np.asarray(fit.params, dtype=float)[None, :], n + 1, axis=0)
+    per_set, _ = best_of(5, lambda: model.force(rec, P))
+    kernel = fit.evaluations * per_set / (n + 1)
+    return (f"     default fit: {fit.evaluations} parameter sets, {1e3 * kernel:.1f} ms in the kernel "
+            f"({1e6 * per_set / (n + 1):.0f} us a set in batches of {n + 1}); the rest, "
+            f"{1e3 * max(wall - kernel, 0.0):.1f} ms, is the solver's and the package's Python")
+
+
 def best_of(repeats, run):
     walls, out = [], None
     for _ in range(repeats):
@@ -147,6 +160,7 @@ def main() -> None:
             rows.append((f"fvd_bridge {opt}{' (default)' if opt == DEFAULT_OPTIMIZER else ''}", wall, fit.of))
         for name, wall, of in rows:
             print(f"{law:>4} {name:>32} {1e3 * wall:10.1f} {of:9.5f} {wall / peer_wall:12.1f}")
+        print(overhead(model, rec, wall, fit))
         print()
 
 
