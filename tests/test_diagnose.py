@@ -188,13 +188,12 @@ def test_where_numbers_point_at_the_effect(protocol, lab_dir):
         fits[name] = diagnose(rec, "2", seed=0, settings=SETTINGS, candidates=False).where
     w = fits["asymmetry"]  # r = 0.12: the symmetric model is weaker in tension than in compression
     # (the L1 fit follows one side: signed residuals differ by about r x the mean force)
-    assert w["tension"]["signed"] - w["compression"]["signed"] > 10.0
+    assert w.tension.signed - w.compression.signed > 10.0
     w = fits["thermal_softening"]  # softening: the constant model is too weak early, too strong late
-    assert w["early"]["signed"] > w["late"]["signed"]
+    assert w.early.signed > w.late.signed
     w = fits["gap"]  # dead band at the reversals
-    assert w["reversal"]["error_share"] > 1.2 * w["reversal"]["time_share"]
-    assert len(w["levels"]) == 5 and [lv["peak_v"] for lv in w["levels"]] == sorted(
-        lv["peak_v"] for lv in w["levels"])
+    assert w.reversal.error_share > 1.2 * w.reversal.time_share
+    assert len(w.levels) == 5 and [lv.peak_v for lv in w.levels] == sorted(lv.peak_v for lv in w.levels)
 
 
 @pytest.mark.slow

@@ -120,7 +120,7 @@ def _write(args, record, rows, report, has_force) -> list:
     base = safe_name(record.name)
     written = [f"{base}_compare.json"]
     with staged_dir(args.out) as stage:
-        full = dict(report, where={r["file"]: r["where"] for r in rows} if has_force else None)
+        full = dict(report, where={r["file"]: r["where"].as_dict() for r in rows} if has_force else None)
         write_json(os.path.join(stage, written[0]), full)
         if not args.no_figures:
             from ..plots.compare import compare_figure

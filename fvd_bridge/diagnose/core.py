@@ -72,7 +72,7 @@ class Diagnosis:
     F_model: np.ndarray
     noise_std: float
     judge: Judge
-    where: dict
+    where: where_mod.Where
     candidates: list = field(default_factory=list)
     wall_s: float = 0.0
     parent: tuple | None = None  # (spec, OF) of the model without the last effect
@@ -233,7 +233,7 @@ class Diagnosis:
             "params": self.params(),
             "units": dict(zip(self.fit.names, self.fit.units)),
             "on_bound": [list(x) for x in self.on_bound()],
-            "where": self.where,
+            "where": self.where.as_dict(),
             "all_candidates": [c.as_dict() for c in self.candidates],
             "wall_s": self.wall_s,
         }

@@ -35,11 +35,11 @@ def where(record, diag, path: str | None = None, ax=None):
     a.set_ylabel("force F [kN] (measured, coloured by r)")
     a.legend(loc="upper left", fontsize=8)
     a = ax[1, 1]
-    cyc = diag.where["cycles"]
+    cyc = diag.where.cycles
     if cyc:
-        mid = [0.5 * (c["t_start"] + c["t_end"]) for c in cyc]
-        width = [0.9 * (c["t_end"] - c["t_start"]) for c in cyc]
-        a.bar(mid, [c["mean_abs"] for c in cyc], width=width, color="tab:orange")
+        mid = [0.5 * (c.t_start + c.t_end) for c in cyc]
+        width = [0.9 * (c.t_end - c.t_start) for c in cyc]
+        a.bar(mid, [c.mean_abs for c in cyc], width=width, color="tab:orange")
     a.axhline(noise * np.sqrt(2 / np.pi), color="tab:green", ls="--", label="noise alone")
     a.set_xlabel("time t [s] (one bar per cycle)")
     a.set_ylabel("mean |r| per cycle [kN]")
