@@ -66,9 +66,9 @@ def summary(diags: dict, lad, table: list) -> list[str]:
                  f"{lad.stop})")
     lines.append("on the 1 Hz test: " + ", ".join(f"{spec} OF {of:.4g}" for spec, of in table))
     final = lad.final
-    rv = final.where["reversal"]
+    rv = final.where.reversal
     lines.append(f"left unexplained: OF {final.of:.4g} is {final.of / final.floor:.0f}x the floor; "
-                 f"{rv['error_share']:.0%} of the residual lies near the reversals ({rv['time_share']:.0%} "
+                 f"{rv.error_share:.0%} of the residual lies near the reversals ({rv.time_share:.0%} "
                  f"of the time)")
     return lines
 
