@@ -110,7 +110,8 @@ class RestPin:
         m = [np.median(r[:, g], axis=1) for g in self.groups]
         if len(m) == 1:
             return np.column_stack([m[0], np.zeros(len(r))])
-        (ta, tb), slope = self.times, (m[1] - m[0]) / (self.times[1] - self.times[0])
+        ta, tb = self.times
+        slope = (m[1] - m[0]) / (tb - ta)
         return np.column_stack([m[0] - slope * ta, slope])
 
 
