@@ -22,7 +22,7 @@ import numpy as np
 
 from .._version import __version__
 from ..calibration import Calibration, common_tests, same_data
-from ..io.staging import atomic_file
+from ..io.staging import atomic_file, safe_name
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
 from ..errors import InputError, PluginNeeded
@@ -101,9 +101,15 @@ def _best(cals: list, records: dict) -> tuple:
     return cals[0], "fitted to different tests: not ranked, the first file's"
 
 
-def _floor(records: dict) -> float | None:
-    """The OF the records' force noise alone gives (``fit.noise_floor``), the
-    mean over the tests as the OF is; None without records."""
+def _floor(records: dict, cal=None) -> float | None:
+    """The OF the measurement noise alone gives: the calibration's bootstrap
+    (force and displacement noise through the measurement chain, the number
+    its interval note and the terminal give) where it has one, else the
+    records' force noise alone (``fit.noise_floor``, the mean over the tests
+    as the OF is); None without either."""
+    noise_of = ((cal.intervals or {}).get("noise_of") if cal is not None else None)
+    if noise_of is not None and np.isfinite(noise_of) and noise_of > 0:
+        return float(noise_of)
     floors = [noise_floor(force_noise(rec.F), rec.F) for rec in records.values() if rec is not None]
     return float(np.mean(floors)) if floors else None
 
@@ -277,7 +283,8 @@ def _device_section(out: str, shown: str, device: str, cals: list, series: dict,
     next command; then the other models, the tests, acceptance and exports."""
     records = {t["name"]: _record(t) for t in cals[0].tests}
     best, chosen = _best(cals, records)
-    floor = _floor(records)
+    told = read_json(os.path.join(out, f"{safe_name(device)}_diagnose.json")) if diagnosed else None
+    floor = (told or {}).get("noise_floor_of") or _floor(records, best)  # a diagnosis' floor: the record's
     lead = ("the calibration diagnose wrote" if diagnosed and len(cals) == 1 else
             "the best of the calibrations diagnose wrote" if diagnosed else "use")
     why = f"{chosen} of {len(cals)} models" if len(cals) > 1 else "the one model calibrated"
