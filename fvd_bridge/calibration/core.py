@@ -16,7 +16,8 @@ from ..fit.objective import objective
 from ..io.staging import atomic_file
 from ..records.device import as_device, tested_range
 from . import schema, tested as tested_mod, text
-from .schema import num, record_provenance
+from ..io.staging import num
+from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
 from .text import REPORTED_CORRELATION
 

@@ -47,6 +47,7 @@ from .._version import __version__
 from ..catalog import catalog_for, plugin_files, recorded_plugins
 from ..errors import InputError
 from ..fit.layout import SEP
+from ..io.staging import plain
 
 SCHEMA_VERSION = 3
 READABLE_SCHEMAS = (1, 2, 3)
@@ -205,22 +206,3 @@ def _parameters(path: str, given, model):
     if extra:
         raise InputError(f"{path}: key 'parameters.{extra[0]}' is not a parameter of model {model.spec}")
     return np.array(values), np.array(bounds, dtype=float).reshape(-1, 2), np.array(means), np.array(sigmas)
-
-
-def num(x):
-    """A finite float, else None."""
-    x = float(x)
-    return None if not np.isfinite(x) else x
-
-
-def plain(x):
-    """Numpy scalars and arrays, tuples -> plain YAML types."""
-    if isinstance(x, dict):
-        return {str(k): plain(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [plain(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return [plain(v) for v in x.tolist()]
-    if isinstance(x, np.generic):
-        return x.item()
-    return x

@@ -89,6 +89,14 @@ def design_motion(acc: Acceptance, amplitude: float, dt: float):
     return Record(t, d, np.zeros_like(t), v, a, name=f"acceptance_{acc.velocity:g}mm_s")
 
 
+def series_motion(acc: Acceptance, records) -> tuple[float, float, Record]:
+    """(amplitude [mm], dt [s], the design motion) of a series' records: the
+    given amplitude or their median peak displacement, their median dt."""
+    amplitude = acc.amplitude or float(np.median([r.scales()["d"] for r in records]))
+    dt = float(np.median([r.dt for r in records]))
+    return amplitude, dt, design_motion(acc, amplitude, dt)
+
+
 def forces_at_velocity(F: np.ndarray, v: np.ndarray) -> np.ndarray:
     """(..., 2): force at the last sample of peak velocity, tension (v max) and
     compression (v min, as a magnitude) [kN]; F (..., n_t)."""
@@ -112,9 +120,7 @@ def evaluate(summary: dict, records, cs, acc: Acceptance, nominal_device=None) -
     "models": {spec: {"F": (n_dev, 2) [kN], "deviation": (n_dev,), "passed": (n_dev,) bool}}}
     ("applies" False, "why_not" the reason and no models without a nominal force).
     """
-    amplitude = acc.amplitude or float(np.median([r.scales()["d"] for r in records]))
-    dt = float(np.median([r.dt for r in records]))
-    motion = design_motion(acc, amplitude, dt)
+    amplitude, dt, motion = series_motion(acc, records)
     tested = max(r.scales()["v"] for r in records)  # a record or a device: its peak velocity [mm/s]
     said = {"settings": acc.as_dict(), "rule": RULE, "source": SOURCE, "applies": True, "why_not": "",
             "note": (f"the design velocity {acc.velocity:g} mm/s lies beyond the records' peak velocity "

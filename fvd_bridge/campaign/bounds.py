@@ -54,9 +54,9 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..io.staging import write_csv_rows, write_json
+from ..io.staging import plain, write_csv_rows, write_json
 from ..report.numbers import rounded, share, with_unit
-from .acceptance import Acceptance, design_motion, forces_at_velocity, section
+from .acceptance import Acceptance, forces_at_velocity, section, series_motion
 
 #: bounds.json's schema
 SCHEMA_VERSION = 1
@@ -152,17 +152,13 @@ def _row(quantity: str, unit: str, values, settings: BoundSettings, note: str = 
             "devices_min": float(np.min(x)), "devices_max": float(np.max(x)), "note": why}
 
 
-def compute(summary: dict, records, cs, acc: Acceptance, settings: BoundSettings, accept: dict | None = None) -> dict:
+def compute(summary: dict, records, cs, acc: Acceptance, settings: BoundSettings) -> dict:
     """The bounds of every model of the campaign (module doc).
 
     ``summary``: campaign.outputs.summarize's; ``acc``: the acceptance
-    settings (design velocity, cycles); ``accept``: acceptance.evaluate's
-    result, whose test amplitude and dt are taken (else computed as it
-    does)."""
-    amplitude = (accept or {}).get("amplitude") or acc.amplitude or float(
-        np.median([r.scales()["d"] for r in records]))
-    dt = (accept or {}).get("dt") or float(np.median([r.dt for r in records]))
-    motion = design_motion(acc, amplitude, dt)
+    settings (design velocity, cycles), whose test motion the acceptance
+    uses too (``acceptance.series_motion``)."""
+    amplitude, dt, motion = series_motion(acc, records)
     devices = summary["devices"]
     out = {"schema_version": SCHEMA_VERSION, "settings": settings.as_dict(), "rule": RULE, "source": SOURCE,
            "statistic": _statistic_text(settings), "velocity": acc.velocity, "amplitude": amplitude, "dt": dt,
@@ -195,18 +191,7 @@ def write(stage: str, bounds: dict) -> None:
     write_csv_rows(os.path.join(stage, "bounds.csv"),
                    ["model", "quantity", "unit", "nominal", "lambda_test_min", "lambda_test_max", "lambda_min",
                     "lambda_max", "lower", "upper", "note"], rows)
-    write_json(os.path.join(stage, "bounds.json"), _plain(bounds))
-
-
-def _plain(x):
-    """NaN -> None, numpy numbers -> floats, all the way down (JSON)."""
-    if isinstance(x, dict):
-        return {k: _plain(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_plain(v) for v in x]
-    if isinstance(x, (float, np.floating)):
-        return float(x) if np.isfinite(x) else None
-    return x
+    write_json(os.path.join(stage, "bounds.json"), plain(bounds, finite=True))
 
 
 def format_bounds(bounds: dict) -> str:

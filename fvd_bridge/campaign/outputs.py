@@ -14,7 +14,6 @@ DIR/figures/*.png   loops, OF bars, parameter dispersion, Pareto front
 
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
@@ -22,7 +21,7 @@ import numpy as np
 from .. import timing
 from .._version import __version__
 from ..calibration import Calibration
-from ..io.staging import staged_dir, write_csv_rows, write_json
+from ..io.staging import num, staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
 from . import stats
 from .checks import fit_warnings
@@ -87,11 +86,6 @@ def _near_zero_note(name, unit, mean, rng) -> str:
             f"search range [{rng[0]:.4g}, {rng[1]:.4g}]): no relative scatter, kept out of beta")
 
 
-def _num(x):
-    x = float(x)
-    return None if math.isnan(x) or math.isinf(x) else x
-
-
 def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) -> Calibration:
     """The calibrated parameter set of one (device, model): its best run (with its intervals)."""
     best = summary_model["best"][rec.name]
@@ -147,8 +141,8 @@ def _tables(stage, summary, cs):
         for j, n in enumerate(m["names"]):
             note = "near-zero mean: not in beta" if m["near_zero"][j] else ""
             for k, dev in enumerate(devices):
-                rob.append([spec, n, dev, _num(m["delta"][k][j]), _num(m["delta_n"][j]), _num(m["beta"]), note])
-        par.append([spec, m["of_overall"], _num(m["beta"]), int(m["non_dominated"])])
+                rob.append([spec, n, dev, num(m["delta"][k][j]), num(m["delta_n"][j]), num(m["beta"]), note])
+        par.append([spec, m["of_overall"], num(m["beta"]), int(m["non_dominated"])])
     write_csv_rows(os.path.join(stage, "table_A7.csv"), ["model", "device", "quantity", "unit", "mean", "sigma"], rows)
     write_csv_rows(os.path.join(stage, "robustness.csv"),
                    ["model", "parameter", "device", "delta_mn", "Delta_n", "beta", "note"], rob)
@@ -163,7 +157,7 @@ def _summary_json(records, results, summary, cs) -> dict:
         "devices": [{"name": dev.name, "tests": [{"name": r.name, "file": r.provenance.get("file"), "samples": r.n,
                                                   "dt": r.dt, "peak_force_kN": float(np.max(np.abs(r.F)))}
                                                  for r in as_device(dev).tests]} for dev in records],
-        "models": {spec: {"of_mean": m["of_overall"], "beta": _num(m["beta"]),
+        "models": {spec: {"of_mean": m["of_overall"], "beta": num(m["beta"]),
                           "non_dominated": m["non_dominated"], "notes": m["notes"],
                           "warnings": {d: m["warnings"][d] for d in summary["devices"]}}
                    for spec, m in summary["models"].items()},

@@ -219,7 +219,7 @@ def run(args) -> int:
                     nominal = rig_nominal(p["rig"])
                 made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
                 production.write(stage, made["prod"], made["accept"], figures)
-                made["bounds"] = bounds.compute(summary, records, cs, p["acceptance"], p["bounds"], made["accept"])
+                made["bounds"] = bounds.compute(summary, records, cs, p["acceptance"], p["bounds"])
                 bounds.write(stage, made["bounds"])
 
             summary = write_outputs(p["out"], records, results, cs, figures=figures, extra=extra, intervals=intervals,

@@ -17,16 +17,11 @@ import shutil
 
 import numpy as np
 
-from ..io.staging import safe_name, staged_dir, write_csv_rows, write_json
+from ..io.staging import num, safe_name, staged_dir, write_csv_rows, write_json
 from ..report.numbers import rounded, share, with_unit
 from . import bounds as damper_bounds
 from .compare import QUANTITIES
 from .verdict import series_spread, verdict_lines
-
-
-def _num(x):
-    x = float(x)
-    return None if not np.isfinite(x) else x
 
 
 def write_frame_outputs(out: str, building, motion, cases, figures: bool = True, settings: dict | None = None,
@@ -50,11 +45,11 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
             kind = "" if c.spec is None else ("skipped" if c.result is None else
                                               "fmu" if c.fmu else ("exact" if c.exact else "approx"))
             rows.append([c.label, c.spec or "", c.device or "", "" if c.of is None else c.of]
-                        + [_num(v[k]) for k, _, _ in QUANTITIES]
+                        + [num(v[k]) for k, _, _ in QUANTITIES]
                         + [kind, " ".join(c.result.solver.algorithms_used) if c.result else "",
                            "; ".join(c.exceeded), c.note if c.spec else ""])
         write_csv_rows(os.path.join(stage, "frame_table.csv"), header, rows)
-        srows = [[spec, len(s["devices"]), s["of"], k, *map(_num, s[k])] for spec, s in spread.items()
+        srows = [[spec, len(s["devices"]), s["of"], k, *map(num, s[k])] for spec, s in spread.items()
                  for k, _, _ in QUANTITIES]
         write_csv_rows(os.path.join(stage, "frame_series.csv"),
                        ["model", "devices", "mean_calibration_of", "quantity", "min", "mean", "max", "cov"], srows)
@@ -75,7 +70,7 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                                                      "ranked_on": ({"record": c.ranked_on[0], "of": c.ranked_on[1]}
                                                                    if c.ranked_on else None),
                                                      "response": c.result.summary() if c.result else None,
-                                                     "quantities": ({k: _num(x) for k, x in c.values().items()}
+                                                     "quantities": ({k: num(x) for k, x in c.values().items()}
                                                                     if c.result else None),
                                                      "supplemental_damping": c.supplemental_damping(),
                                                      "bound": c.bound, "force_factor": c.scale,

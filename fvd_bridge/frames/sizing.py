@@ -36,7 +36,7 @@ target / xi_d(1).  The brace is taken as rigid and the members elastic;
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import openseespy.opensees as ops
@@ -132,8 +132,7 @@ def cycle_energy(cal, amplitude: float, omega: float) -> tuple[float, float]:
     t = np.arange(n + 1) * (2.0 * math.pi / omega) / SAMPLES_PER_CYCLE
     d = amplitude * np.sin(omega * t)
     v = amplitude * omega * np.cos(omega * t)
-    # the record's force is not read (the model predicts it); a record refuses a constant one
-    record = Record.from_arrays(t, d, np.sin(omega * t), v=v, name="design cycle")
+    record = Record(t, d, np.zeros_like(t), v, -omega ** 2 * d, name="design cycle")  # the exact motion
     F = cal.force(record)
     last = slice(n - SAMPLES_PER_CYCLE, n + 1)
     return float(loop_energy(F[last, None], d[last, None])[0]), float(np.max(np.abs(F[last])))
@@ -186,8 +185,8 @@ def design(mode: FirstMode, cal, roof_drift: float, target: float | None = None,
         stories.append(StoryDamper(float(u), float(mode.omega * u), energy, force))
     as_is = Design(None, A, roof_drift, mode.period, tuple(stories), mode.strain_energy(A), 1.0)
     if target is None:
-        return Design(None, A, roof_drift, mode.period, as_is.stories, as_is.strain_energy, factor)
+        return replace(as_is, factor=factor)
     if not as_is.damping > 0:
         raise InputError(f"--target-damping {target}: law {cal.spec} dissipates no energy in the design cycle; "
                          "it cannot be sized for damping")
-    return Design(target, A, roof_drift, mode.period, as_is.stories, as_is.strain_energy, target / as_is.damping)
+    return replace(as_is, target=target, factor=target / as_is.damping)

@@ -9,8 +9,11 @@ from __future__ import annotations
 import contextlib
 import csv
 import json
+import math
 import os
 import shutil
+
+import numpy as np
 
 from ..errors import InputError
 
@@ -63,6 +66,28 @@ def atomic_file(path: str, mode: str = "w"):
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
+
+
+def num(x) -> float | None:
+    """A finite float, else None (JSON and YAML have no NaN to trust)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def plain(x, finite: bool = False):
+    """Numpy scalars and arrays, tuples -> plain JSON/YAML types, all the way
+    down; with ``finite``, a NaN or infinite float -> None."""
+    if isinstance(x, dict):
+        return {str(k): plain(v, finite) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [plain(v, finite) for v in x]
+    if isinstance(x, np.ndarray):
+        return [plain(v, finite) for v in x.tolist()]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if finite and isinstance(x, float):
+        return num(x)
+    return x
 
 
 def write_json(path: str, data) -> None:
