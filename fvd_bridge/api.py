@@ -15,20 +15,17 @@ Units inside: kN, mm, s.  Messages and warnings (``FitWarning``,
 from __future__ import annotations
 
 import warnings
-from dataclasses import asdict
-
-import numpy as np
+from dataclasses import replace
 
 from .api_words import api_errors, in_api_words
 from .calibration import Calibration
-from .campaign.checks import fit_warnings
+from .campaign.engine import calibrate_one
+from .campaign.runner import CampaignSettings
 from .catalog import catalog
 from .diagnose import diagnose as run_diagnosis
 from .errors import FitWarning, InputError
-from .fit import DEFAULT_OPTIMIZER, fit_model, settings_for
+from .fit import DEFAULT_OPTIMIZER, settings_for
 from .fit.intervals import REPLICATES
-from .fit.intervals import intervals as fit_intervals
-from .fit.nested import nested_start
 from .records.device import Device
 from .records.record import Record
 
@@ -51,7 +48,7 @@ def _model(model_or_spec, plugins=()):
 def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
               bounds="auto", device: str | None = None, per_test=(), start: Calibration | dict | None = None,
               intervals: int = REPLICATES, plugins=(), pop: int | None = None,
-              gens: int | None = None, fixed: dict | None = None) -> Calibration:
+              gens: int | None = None, fixed: dict | None = None, all_runs: bool = False) -> Calibration:
     """Calibrate a model on one record or on the tests of one device.
 
     Parameters
@@ -61,7 +58,10 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
     model : str or Model
         A spec: a law number and its effects, e.g. ``"2"`` or ``"9+asymmetry"``.
     runs : int
-        Seeded optimizer runs; the best is kept, the others give the run statistics.
+        Seeded optimizer runs; the best is kept, the others give the run
+        statistics.  After the first 3, only when they did not end on one
+        optimum (``fvd-bridge calibrate``'s rule; ``.settings['runs_made']``;
+        ``all_runs=True`` makes them all).
     seed : int
         The first run's seed (the same seeds as ``fvd-bridge calibrate --seed``).
     optimizer : str
@@ -86,6 +86,8 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
         Plugin files with effects of your own.
     pop, gens : int, optional
         Optimizer settings (None: the defaults).
+    all_runs : bool
+        Make every run, also when the first 3 ended on one optimum.
 
     Returns
     -------
@@ -98,32 +100,35 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
             raise InputError(f"runs={runs}: must be at least 1")
         record = as_tests(records, device)
         mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
-        for name, value in (fixed or {}).items():
-            if name not in m.names:
-                raise InputError(f"fixed={{{name!r}: {value}}}: model {m.spec} has no parameter '{name}' "
-                                 f"(has: {', '.join(m.names)})")
-            overrides[name] = (float(value), float(value))
-        settings = settings_for(optimizer, pop, gens)
-        first = (start if start is None or isinstance(start, dict)
-                 else nested_start(m, record, start.model.names, start.values, per_test))
-        fits = [fit_model(m, record, bounds=mode, optimizer=optimizer, seed=[seed, 0, 0, r], settings=settings,
-                          per_test=per_test, start=first, overrides=overrides) for r in range(int(runs))]
-        best = min(fits, key=lambda f: f.of)
-        P = np.array([f.params for f in fits])
-        OF = np.array([f.of for f in fits])
-        stats = {"of_mean": OF.mean(), "of_sigma": OF.std(), "p_mean": P.mean(axis=0), "p_sigma": P.std(axis=0)}
-        settings_dict = {"runs": int(runs), "seed": seed, "optimizer": optimizer, "bounds": mode,
-                         **({"bound": {k: list(v) for k, v in overrides.items()}} if overrides else {}),
-                         "optimizer_settings": asdict(settings), "plugins": list(plugins),
-                         "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
-        notes = [in_api_words(w["message"]) for w in fit_warnings(m, fits)]
+        values = dict(start) if isinstance(start, dict) else {}
+        for arg, given in (("bounds", dict.fromkeys(overrides, "...")), ("fixed", fixed or {}), ("start", values),
+                           ("per_test", dict.fromkeys(per_test, ""))):
+            for name, value in given.items():
+                if name not in m.names:
+                    shown = f"[{name!r}]" if arg == "per_test" else f"{{{name!r}: {value}}}"
+                    raise InputError(f"{arg}={shown}: model {m.spec} has no parameter '{name}' "
+                                     f"(has: {', '.join(m.names)})")
+        overrides.update({name: (float(v), float(v)) for name, v in (fixed or {}).items()})
+        settings_for(optimizer, pop, gens)
+        extends = None
+        if isinstance(start, Calibration):
+            if start.model.law is not m.law or not set(start.model.effect_names) <= set(m.effect_names):
+                raise InputError(f"start: model {m.spec} does not extend the calibration's model {start.spec} "
+                                 f"(same law, its effects among the model's)")
+            extends = (start.spec, tuple(start.model.names), tuple(float(x) for x in start.values))
+        cs = CampaignSettings(specs=(m.spec,), runs=int(runs), bounds=mode, optimizer=optimizer, seed=seed,
+                              pop=pop, gens=gens, jobs=1, plugins=tuple(plugins),
+                              bound_overrides=tuple((None, n, lo, hi) for n, (lo, hi) in overrides.items()),
+                              per_test=tuple((None, n) for n in per_test), start=extends,
+                              start_values=tuple((None, n, float(v)) for n, v in values.items()),
+                              intervals=int(intervals), all_runs=bool(all_runs))
+        if cs.model(m.spec).names != m.names:
+            raise InputError(f"model {m.spec}: give it as a spec (with plugins= for effects of your own)")
+        cal = calibrate_one(record, cs)
+        notes = [in_api_words(w) for w in cal.warnings]
         for note in notes:
             warnings.warn(note, FitWarning, stacklevel=3)
-        ivals = None
-        if intervals:
-            ivals = fit_intervals(m, record, best.params, per_test, best.bounds, intervals, seed=[seed, 7],
-                                  of=best.of)
-        return Calibration.from_fit(m, best, record, settings_dict, notes, stats, ivals)
+        return replace(cal, warnings=notes)
 
 
 def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=(), plugins=(), progress=None):

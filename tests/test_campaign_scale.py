@@ -21,13 +21,13 @@ from fvd_bridge.fit import FitResult
 
 TABLES = ("table_A7.csv", "robustness.csv", "pareto.csv", "production.csv", "outliers.csv", "acceptance.csv")
 
-#: 4 rig devices x 2 models x 4 runs = 32 units, small DE settings
+#: 4 rig devices x 2 models x 4 runs = 32 units (every run: all_runs), small DE settings
 CAMPAIGN = {
     "rig": {"devices": 4, "nominal": {"C": 45.4, "alpha": 0.3, "friction": 2.0},
             "scatter": {"C": 0.05, "alpha": 0.02}, "protocol": {"name": "paper", "cycles": 3},
             "noise": {"force": 1.0, "displacement": 0.005}, "seed": 3},
     "models": "2,9", "runs": 4, "seed": 1, "optimizer": "de", "pop": 8, "gens": 30, "jobs": 2,
-    "no_figures": True, "acceptance": {"velocity": 500, "tolerance": 0.15}, "intervals": 0,
+    "no_figures": True, "acceptance": {"velocity": 500, "tolerance": 0.15}, "intervals": 0, "all_runs": True,
 }
 UNITS = 4 * 2 * 4
 

@@ -24,9 +24,12 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
               f"{n} samples)",
               f"    OF (eq. 18):   {cal.of:.6g}"]
     lines += [f"    OF {t['name']}: {t['of']:.6g}" for t in cal.tests if len(cal.tests) > 1]
-    if cal.runs.get("of_sigma") is not None and cal.settings.get("runs", 1) > 1:
-        lines.append(f"    runs:          {cal.settings['runs']} (OF mean {cal.runs['of_mean']:.6g}, "
-                     f"sigma {cal.runs['of_sigma']:.2g})")
+    asked = cal.settings.get("runs", 1)
+    made = cal.settings.get("runs_made", asked)
+    if cal.runs.get("of_sigma") is not None and asked > 1:
+        why = f" (they ended on one optimum: the other {asked - made} would repeat them)" if made < asked else ""
+        lines.append(f"    runs:          {made} of {asked}, OF mean {cal.runs['of_mean']:.6g}, "
+                     f"sigma {cal.runs['of_sigma']:.2g}{why}")
     if cal.settings.get("optimizer"):
         lines.append(f"    optimizer:     {cal.settings['optimizer']}, seed {cal.settings.get('seed')}")
     lines += [f"    {cal.tested_text()}", "[[Variables]]"]

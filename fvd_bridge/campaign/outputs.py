@@ -8,7 +8,8 @@ DIR/robustness.csv  Delta_mn, Delta_n per parameter and beta per model (eqs. 19-
                     a parameter whose mean over devices is near zero (stats.near_zero)
                     has empty deltas and the note "near-zero mean: not in beta"
 DIR/pareto.csv      mean OF vs beta per model, non-dominated flag (Fig. 14)
-DIR/summary.json    settings, devices, per-model summary, every run, warnings
+DIR/summary.json    settings, devices, per-model summary (with the runs made:
+                    campaign.runner.run_campaign), every run, warnings
 DIR/figures/*.png   loops, OF bars, parameter dispersion, Pareto front
 """
 
@@ -68,7 +69,7 @@ def summarize(records, results: dict, cs) -> dict:
                       for j, (n, u) in enumerate(zip(names, units)) if near_zero[j]],
             "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
             "p_mean": p_mean, "p_sigma": p_sigma, "derived": d_stats, "delta": delta, "delta_n": delta_n, "beta": beta,
-            "of_overall": float(OF.mean()),
+            "of_overall": float(OF.mean()), "runs_made": OF.shape[1],
             "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
             "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, per_dev)},
         }
@@ -76,7 +77,7 @@ def summarize(records, results: dict, cs) -> dict:
     front = stats.non_dominated(np.array([[models[s]["of_overall"], models[s]["beta"]] for s in specs]))
     for s, nd in zip(specs, front):
         models[s]["non_dominated"] = bool(nd)
-    return {"devices": devices, "models": models}
+    return {"devices": devices, "models": models, "runs": cs.runs}
 
 
 def _near_zero_note(name, unit, mean, rng) -> str:
@@ -91,7 +92,8 @@ def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) ->
     best = summary_model["best"][rec.name]
     runs = {"of_mean": summary_model["of_mean"][dev_index], "of_sigma": summary_model["of_sigma"][dev_index],
             "p_mean": summary_model["p_mean"][dev_index], "p_sigma": summary_model["p_sigma"][dev_index]}
-    settings = {**cs.as_dict(), "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
+    settings = {**cs.as_dict(), "runs_made": summary_model["runs_made"],
+                "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
     return Calibration.from_fit(cs.model(spec), best, rec, settings,
                                 [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
 
@@ -157,7 +159,7 @@ def _summary_json(records, results, summary, cs) -> dict:
         "devices": [{"name": dev.name, "tests": [{"name": r.name, "file": r.provenance.get("file"), "samples": r.n,
                                                   "dt": r.dt, "peak_force_kN": float(np.max(np.abs(r.F)))}
                                                  for r in as_device(dev).tests]} for dev in records],
-        "models": {spec: {"of_mean": m["of_overall"], "beta": num(m["beta"]),
+        "models": {spec: {"of_mean": m["of_overall"], "beta": num(m["beta"]), "runs_made": m["runs_made"],
                           "non_dominated": m["non_dominated"], "notes": m["notes"],
                           "warnings": {d: m["warnings"][d] for d in summary["devices"]}}
                    for spec, m in summary["models"].items()},

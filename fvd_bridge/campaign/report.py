@@ -37,6 +37,7 @@ def format_report(summary: dict) -> str:
             label = f"law {spec}" if k == 0 else ""
             cells = "".join(f"{with_spread(mean[i], sigma[i]):>{w_cell}}" for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
+    lines += _runs_lines(models, summary.get("runs"))
     lines += [""] + _pareto_lines(models, w_model, len(devices))
     ivals = summary.get("intervals") or {}
     if ivals:
@@ -50,6 +51,16 @@ def format_report(summary: dict) -> str:
         lines += ["", "Warnings:"]
         lines += [f"  law {spec}, {dev}: {msg}" for spec, dev, msg in warn]
     return "\n".join(lines)
+
+
+def _runs_lines(models: dict, asked: int | None) -> list:
+    """Which models' first runs ended on one optimum, so the others were not made."""
+    settled = [spec for spec, m in models.items() if asked and m.get("runs_made", asked) < asked]
+    if not settled:
+        return []
+    made = models[settled[0]]["runs_made"]
+    return [f"law {', '.join(settled)}: the first {made} runs ended on one optimum on every device; the other "
+            f"{asked - made} of {asked} would repeat them and were not made (--all-runs makes them)"]
 
 
 def _test_rows(m: dict, n_devices: int) -> list:

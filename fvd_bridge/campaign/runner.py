@@ -4,12 +4,15 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
 
-from ..progress import bar as progress_bar
+import numpy as np
 
 from .. import timing
 from ..catalog import catalog as load_catalog
 from ..fit import DEFAULT_OPTIMIZER, settings_for
 from ..fit.intervals import intervals
+from ..fit.local import L1_TOLERANCE, SAME_BASIN
+from ..fit.space import Space
+from ..progress import bar as progress_bar
 from .executors import Processes
 from .tasks import make_tasks, run_task
 
@@ -31,7 +34,9 @@ class CampaignSettings:
     bound_overrides: tuple = field(default_factory=tuple)  # (spec or None, name, lower, upper)
     per_test: tuple = field(default_factory=tuple)  # (spec or None, name): parameters fitted per test
     start: tuple | None = None  # (spec, names, values) of a calibration file to start from
+    start_values: tuple = field(default_factory=tuple)  # (spec or None, name, value): start values of some parameters
     intervals: int = 0  # bootstrap replicates of each calibration's parameter intervals (0: none)
+    all_runs: bool = False  # make every run, also after the first ones agreed (``first_runs``)
 
     @property
     def catalog(self):
@@ -61,6 +66,11 @@ class CampaignSettings:
             return None
         return self.start[1], self.start[2]
 
+    def start_values_for(self, spec: str) -> dict:
+        """{name: value} of the --start-value options that apply to ``spec``."""
+        names = self.model(spec).names
+        return {name: v for s, name, v in self.start_values if s in (None, spec) and name in names}
+
     def as_dict(self) -> dict:
         s = settings_for(self.optimizer, self.pop, self.gens, self.stall)
         return {"specs": list(self.specs), "runs": self.runs, "bounds": self.bounds,
@@ -68,31 +78,77 @@ class CampaignSettings:
                 "plugins": list(self.plugins),
                 "bound_overrides": [list(o) for o in self.bound_overrides],
                 "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
+                "all_runs": self.all_runs, "start_values": [list(o) for o in self.start_values],
                 "start": None if self.start is None else {"model": self.start[0],
                                                           "values": dict(zip(self.start[1], self.start[2]))}}
 
 
-def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=None) -> dict:
-    """Fit every spec to every record ``cs.runs`` times through ``executor``
-    (default: a local process pool of ``cs.jobs`` workers).
+#: runs made first of each model; the others only where these disagree
+FIRST_RUNS = 3
 
-    Returns {(device name, spec): [FitResult per run]} in run order.
+
+def first_runs(cs) -> int:
+    """How many runs of each (device, model) are made before the agreement check."""
+    return cs.runs if cs.all_runs or cs.runs <= FIRST_RUNS else FIRST_RUNS
+
+
+def repeat_each_other(runs) -> bool:
+    """Runs that ended on one optimum: every OF within the local search's
+    L1_TOLERANCE share of the best (how close its end is to eq. 18's
+    optimum) and every parameter within SAME_BASIN of the best run's
+    (unit-cube distance: the local search's own test of one basin).  More
+    runs from other seeds can then only repeat them."""
+    best = min(runs, key=lambda r: r.of)
+    space = Space.of(best.bounds, best.log or None)
+    at = space.position(np.asarray(best.params))
+    return all(r.of <= best.of * (1.0 + L1_TOLERANCE)
+               and np.max(np.abs(space.position(np.asarray(r.params)) - at), initial=0.0) <= SAME_BASIN
+               for r in runs)
+
+
+def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=None) -> dict:
+    """Fit every spec to every record through ``executor`` (default: a local
+    process pool of ``cs.jobs`` workers): first ``first_runs(cs)`` runs of
+    each, then the rest of ``cs.runs`` of the models whose first runs do not
+    ``repeat_each_other`` on every device (all of them with ``cs.all_runs``).
+    The runs made are the first of the same seeded sequence a full campaign
+    makes, so their statistics are those of its first runs.
+
+    Returns {(device name, spec): [FitResult per run made]} in run order.
     """
     executor = executor or Processes(cs.jobs)
     tasks = make_tasks(records, cs)
+    k = first_runs(cs)
     results: dict = {(rec.name, spec): [None] * cs.runs for rec in records for spec in cs.specs}
     bar = progress_bar(len(tasks), progress, unit="fit")
     try:
-        for (task, _, _), res in executor.run(run_task, ((t, records[t.device_index], cs) for t in tasks)):
-            runs = results[(task.device, task.spec)]
-            runs[task.run] = res
-            best = min(x.of for x in runs if x is not None)
-            bar.set_description(f"law {task.spec} | {task.device} | run {task.run + 1}/{cs.runs} | "
-                                f"best OF {best:.4f}")
-            bar.update()
+        _run(executor, [t for t in tasks if t.run < k], records, cs, results, bar)
+        settled = {spec for spec in cs.specs if k < cs.runs
+                   and all(repeat_each_other(results[(rec.name, spec)][:k]) for rec in records)}
+        for spec in settled:
+            bar.total -= len(records) * (cs.runs - k)
+            for rec in records:
+                del results[(rec.name, spec)][k:]
+        if settled:
+            named = ", ".join(s for s in cs.specs if s in settled)
+            bar.set_description(f"the first {k} runs of {named} agree: not repeated")
+        _run(executor, [t for t in tasks if t.run >= k and t.spec not in settled], records, cs, results, bar)
     finally:
         bar.close()
     return results
+
+
+def _run(executor, tasks, records, cs, results, bar) -> None:
+    """Run ``tasks`` through ``executor``, each result into its place in ``results``."""
+    if not tasks:
+        return
+    for (task, _, _), res in executor.run(run_task, ((t, records[t.device_index], cs) for t in tasks)):
+        runs = results[(task.device, task.spec)]
+        runs[task.run] = res
+        best = min(x.of for x in runs if x is not None)
+        bar.set_description(f"law {task.spec} | {task.device} | run {task.run + 1}/{cs.runs} | "
+                            f"best OF {best:.4f}")
+        bar.update()
 
 
 def book_fit_times(results: dict) -> None:

@@ -41,12 +41,14 @@ def make_tasks(records, cs) -> list[Task]:
 def run_task(task: Task, record, cs):
     """Fit one task (a FitResult) on ``record`` (a Record or a Device); the
     model comes from the campaign's catalog, loaded once per process; a
-    --start calibration the model extends is its start."""
+    --start calibration the model extends is its start, else the
+    --start-value values (the data's start for the other parameters)."""
     model = cs.catalog.model(task.spec)
     settings = settings_for(cs.optimizer, cs.pop, cs.gens, cs.stall)
     overrides = {n: b for n, b in cs.overrides_for(task.spec).items() if n in model.names}
     per_test = cs.per_test_for(task.spec)
     given = cs.start_for(task.spec)
-    start = None if given is None else nested_start(model, record, given[0], given[1], per_test)
+    start = (nested_start(model, record, given[0], given[1], per_test) if given is not None
+             else cs.start_values_for(task.spec) or None)
     return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
                      settings=settings, overrides=overrides, per_test=per_test, start=start)

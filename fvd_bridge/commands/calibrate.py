@@ -11,7 +11,8 @@ import yaml
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..calibration import Calibration
-from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign, run_intervals
+from ..campaign.engine import run_calibrations
+from ..campaign.runner import CampaignSettings
 from ..catalog import catalog as load_catalog
 from ..errors import InputError
 from .. import timing
@@ -44,7 +45,11 @@ def add_campaign_options(p):
     p.add_argument("--laws", default=PAPER_SPEC,
                    help=f"laws or model specs: '1-{max(LAWS)}', '2,6,9' or '2+friction,9' (default: the "
                         f"paper's nine, {PAPER_SPEC})")
-    p.add_argument("--runs", type=int, default=20, help="independent runs per device and law (default 20)")
+    p.add_argument("--runs", type=int, default=20,
+                   help="independent runs per device and law (default 20); after the first 3, only for the "
+                        "models whose first runs did not end on one optimum (see --all-runs)")
+    p.add_argument("--all-runs", action="store_true",
+                   help="make every run, also where the first 3 ended on one optimum (e.g. to time them all)")
     p.add_argument("--out", help="output directory (required, here or in --config)")
     p.add_argument("--config", help="YAML file with any of these options as keys (laws, runs, out, bounds, "
                                     "bound: [..], seed, optimizer, pop, gens, stall, jobs, plugin: [..]); "
@@ -77,6 +82,9 @@ def add_campaign_options(p):
     p.add_argument("--start", metavar="CALIBRATION.yaml",
                    help="start every model that extends this calibration's model (same law, its effects "
                         "among the model's) from its parameters; the fit ends no worse than them")
+    p.add_argument("--start-value", action="append", default=[], metavar="[LAW:]NAME=VALUE",
+                   help="start one parameter at a value (still fitted; the data's start for the others), for "
+                        "every law that has it or for one law/spec, e.g. --start-value C=40 (repeatable)")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--profile", action="store_true", help="print where the time went (time per stage)")
@@ -109,17 +117,23 @@ def parse_bound(text: str) -> tuple:
     return (spec or None, name, lo, hi)
 
 
-def parse_fix(text: str) -> tuple:
-    """'[SPEC:]NAME=VALUE' -> (spec or None, name, value, value): a bound of one value."""
+def parse_value(text: str, flag: str = "--fix") -> tuple:
+    """'[SPEC:]NAME=VALUE' -> (spec or None, name, value)."""
     head, sep, value = str(text).partition("=")
     spec, _, name = head.rpartition(":")
     try:
         x = float(value)
     except ValueError:
-        raise InputError(f"--fix '{text}': expected [LAW:]NAME=VALUE, e.g. 9:beta=1.6") from None
+        raise InputError(f"{flag} '{text}': expected [LAW:]NAME=VALUE, e.g. 9:beta=1.6") from None
     if not sep or not name or not np.isfinite(x):
-        raise InputError(f"--fix '{text}': expected [LAW:]NAME=VALUE with a finite value, e.g. 9:beta=1.6")
-    return (spec or None, name, x, x)
+        raise InputError(f"{flag} '{text}': expected [LAW:]NAME=VALUE with a finite value, e.g. 9:beta=1.6")
+    return (spec or None, name, x)
+
+
+def parse_fix(text: str) -> tuple:
+    """'[SPEC:]NAME=VALUE' -> (spec or None, name, value, value): a bound of one value."""
+    spec, name, x = parse_value(text, "--fix")
+    return (spec, name, x, x)
 
 
 def option_parser() -> argparse.ArgumentParser:
@@ -187,9 +201,11 @@ def campaign_settings(args) -> CampaignSettings:
     settings_for(args.optimizer, args.pop, args.gens, args.stall)
     specs = parse_specs(str(args.laws), cat)
     overrides = tuple(parse_bound(b) for b in args.bound) + tuple(parse_fix(f) for f in args.fix)
-    for spec, name, lo, hi in overrides:
+    start_values = tuple(parse_value(text, "--start-value") for text in args.start_value)
+    for flag, spec, name in ([("--fix" if lo == hi else "--bound", spec, name) for spec, name, lo, hi in overrides]
+                             + [("--start-value", spec, name) for spec, name, _ in start_values]):
         targets = [spec] if spec else list(specs)
-        given = f"--{'fix' if lo == hi else 'bound'} '{spec + ':' if spec else ''}{name}=...'"
+        given = f"{flag} '{spec + ':' if spec else ''}{name}=...'"
         if spec and spec not in specs:
             raise InputError(f"{given}: law {spec} is not among --laws {args.laws}")
         if not any(name in cat.model(t).names for t in targets):
@@ -206,7 +222,8 @@ def campaign_settings(args) -> CampaignSettings:
     return CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
                             optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
                             stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
-                            bound_overrides=overrides, per_test=per_test, start=start, intervals=args.intervals)
+                            bound_overrides=overrides, per_test=per_test, start=start, intervals=args.intervals,
+                            start_values=start_values, all_runs=args.all_runs)
 
 
 def parse_per_test(text: str, specs, catalog) -> tuple:
@@ -268,11 +285,7 @@ def run(args) -> int:
     tests = f" ({len(records[0].tests)} tests)" if args.device else ""
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)
-    with timing.stage("fits"):
-        results = run_campaign(records, cs, progress=not args.quiet)
-    book_fit_times(results)
-    with timing.stage("intervals"):
-        intervals = run_intervals(records, results, cs, progress=not args.quiet)
+    results, intervals = run_calibrations(records, cs, progress=not args.quiet)
     with timing.stage("outputs, figures"):
         summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures, intervals=intervals)
     print(format_report(summary))

@@ -1,0 +1,95 @@
+"""A gap model on a 27-second earthquake test: what a calibration costs.
+
+The test: El Centro 1940 NS (``../shared/records``) drives a 1 s, 5%
+single-degree-of-freedom structure; its relative displacement, the first
+27 s scaled to a 30 mm peak, is the actuator's command at 500 Hz (13,500
+samples).  ``fvd-bridge rig`` makes the device's test record: an orifice
+(C 45.4, alpha 0.3) with a 2 kN/mm accumulator spring and a 2 mm pin gap,
+1 kN force and 0.005 mm displacement noise, written as t,d,F.
+
+Timed (wall clock, the machine's cores, the user's warm kernel cache):
+``fvd-bridge calibrate REC --laws 9+parallel_stiffness+gap`` as a user runs
+it (20 runs asked, 20 bootstrap replicates), against the same command with
+``--all-runs`` (every run made, as before runs that repeat each other were
+left out) and against one run without intervals (``--runs 1
+--intervals 0``: the fit alone).
+
+    python benchmarks/bench_earthquake_test.py [--keep DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from scipy import signal
+
+from fvd_bridge.records.motions import read_motion
+
+SHARED = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "records")
+RECORD = "elcentro_1940_NS_2688pts_g_dt0.02.dat"
+DURATION, DT, PEAK = 27.0, 0.002, 30.0
+SPEC = "9+parallel_stiffness+gap"
+CLI = [sys.executable, "-m", "fvd_bridge.cli"]
+
+
+def command_history(path: str) -> None:
+    """Write the actuator's command t,d [s, mm]: the SDOF's relative displacement."""
+    motion = read_motion(os.path.join(SHARED, RECORD), units="g", dt=0.02)
+    w, zeta = 2 * np.pi / 1.0, 0.05
+    sdof = signal.StateSpace([[0.0, 1.0], [-w * w, -2 * zeta * w]], [[0.0], [-1.0]], [[1.0, 0.0]], [[0.0]])
+    t = np.arange(0.0, DURATION, DT)
+    ag = np.interp(t, motion.dt * np.arange(motion.accel.size), motion.accel)
+    _, x, _ = signal.lsim(sdof, ag, t)
+    d = PEAK * x / np.max(np.abs(x))
+    np.savetxt(path, np.column_stack([t, d]), delimiter=",", header="t,d", comments="", fmt="%.6f")
+
+
+def timed(args: list) -> float:
+    t0 = time.perf_counter()
+    res = subprocess.run([*CLI, *args], capture_output=True, text=True)
+    if res.returncode != 0:
+        sys.exit(f"fvd-bridge {' '.join(args)} failed:\n{res.stderr}")
+    return time.perf_counter() - t0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--keep", help="folder for the record and outputs (default: a temporary one)")
+    args = ap.parse_args()
+    if not os.path.exists(os.path.join(SHARED, RECORD)):
+        sys.exit(f"skipped: {RECORD} is not in {SHARED}")
+    root = args.keep or tempfile.mkdtemp(prefix="fvd_eq_")
+    command_history(os.path.join(root, "command.csv"))
+    timed(["rig", "--out", os.path.join(root, "rec"), "--protocol", f"history:{root}/command.csv",
+           "--C", "45.4", "--alpha", "0.3", "--Kp", "2", "--gap", "2", "--noise", "1", "--dt", str(DT)])
+    rec = os.path.join(root, "rec", "device_01.csv")
+    timed(["calibrate", rec, "--laws", "2", "--runs", "1", "--intervals", "0", "--out",
+           os.path.join(root, "warm"), "--no-figures", "--quiet"])  # the kernels compiled, if they were not
+    rows = []
+    for label, extra in (("default (20 runs asked, 20 replicates)", []),
+                         ("--all-runs (every run made)", ["--all-runs"]),
+                         ("the fit alone (--runs 1 --intervals 0)", ["--runs", "1", "--intervals", "0"])):
+        out = os.path.join(root, "out_" + str(len(rows)))
+        wall = timed(["calibrate", rec, "--laws", SPEC, "--out", out, "--no-figures", "--quiet", *extra])
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        model = summary["models"][SPEC]
+        rows.append((label, wall, model["runs_made"], model["of_mean"]))
+    n = np.loadtxt(rec, delimiter=",", comments="#", skiprows=1).shape[0]
+    print(f"{SPEC} on a {DURATION:.0f} s earthquake test ({n} samples at {1 / DT:.0f} Hz), "
+          f"{os.cpu_count()} cores")
+    print(f"{'calibration':<42}{'wall s':>8}{'runs made':>11}{'mean OF':>10}")
+    for label, wall, made, of in rows:
+        print(f"{label:<42}{wall:>8.1f}{made:>11}{of:>10.4f}")
+    print(f"default against --all-runs: {rows[0][1] / rows[1][1]:.2f}x the time; "
+          f"against the fit alone: {rows[0][1] / rows[2][1]:.1f}x")
+
+
+if __name__ == "__main__":
+    main()
