@@ -59,7 +59,7 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
         A spec: a law number and its effects, e.g. ``"2"`` or ``"9+asymmetry"``.
     runs : int
         Seeded optimizer runs; the best is kept, the others give the run
-        statistics.  After the first 3, only when they did not end on one
+        statistics.  After the first 2, only when they did not end on one
         optimum (``fvd-bridge calibrate``'s rule; ``.settings['runs_made']``;
         ``all_runs=True`` makes them all).
     seed : int
@@ -87,7 +87,7 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
     pop, gens : int, optional
         Optimizer settings (None: the defaults).
     all_runs : bool
-        Make every run, also when the first 3 ended on one optimum.
+        Make every run, also when the first 2 ended on one optimum.
 
     Returns
     -------

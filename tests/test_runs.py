@@ -67,7 +67,7 @@ def test_command_line_and_api_are_one_engine(rec, tmp_path):
         assert (entry["ci95"], entry["stderr"]) == (cal.intervals["parameters"][name]["ci95"],
                                                     cal.intervals["parameters"][name]["stderr"])
     assert written.settings["runs_made"] == cal.settings["runs_made"] == FIRST_RUNS
-    assert "runs:          3 of 5" in cal.report()
+    assert f"runs:          {FIRST_RUNS} of 5" in cal.report()
 
 
 def test_start_value_names_a_parameter_the_models_have(rec, tmp_path):
@@ -76,3 +76,23 @@ def test_start_value_names_a_parameter_the_models_have(rec, tmp_path):
     assert res.returncode == 2 and not (tmp_path / "o").exists()
     assert res.stderr.strip().splitlines() == ["fvd-bridge: --start-value 'K=...': model 2 has no parameter 'K' "
                                                "(has: C, alpha)"]
+
+
+def test_a_campaigns_intervals_spread_over_processes_are_those_of_one_process(rec):
+    """run_intervals draws the replicas once and sends their refits out a
+    few at a time: on two processes the intervals are fit.intervals'
+    in this process (the same random stream, the same Newton steps)."""
+    from fvd_bridge.campaign.executors import Processes
+    from fvd_bridge.campaign.runner import run_intervals
+    from fvd_bridge.catalog import catalog
+    from fvd_bridge.fit.intervals import intervals
+
+    cs = CampaignSettings(specs=("9",), runs=1, jobs=2, intervals=10)
+    results = run_campaign([rec], cs, progress=False, executor=Serial())
+    best = results[(rec.name, "9")][0]
+    spread = run_intervals([rec], results, cs, executor=Processes(2), progress=False)[(rec.name, "9")]
+    here = intervals(catalog().model("9"), rec, best.params, (), best.bounds, 10, seed=[0, 7], of=best.of)
+    assert spread.replicates == here.replicates == 10
+    for a, b in ((spread.ci95, here.ci95), (spread.stderr, here.stderr), (spread.noise_of, here.noise_of)):
+        np.testing.assert_allclose(a, b, rtol=1e-9)
+    assert spread.note == here.note

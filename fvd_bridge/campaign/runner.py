@@ -9,10 +9,12 @@ import numpy as np
 from .. import timing
 from ..catalog import catalog as load_catalog
 from ..fit import DEFAULT_OPTIMIZER, settings_for
-from ..fit.intervals import intervals
+from ..fit.intervals import bootstrap_replicas, from_estimates, newton_refits
+from ..fit.layout import Layout
 from ..fit.local import L1_TOLERANCE, SAME_BASIN
 from ..fit.space import Space
 from ..progress import bar as progress_bar
+from ..records.device import as_device
 from .executors import Processes
 from .tasks import make_tasks, run_task
 
@@ -84,7 +86,7 @@ class CampaignSettings:
 
 
 #: runs made first of each model; the others only where these disagree
-FIRST_RUNS = 3
+FIRST_RUNS = 2
 
 
 def first_runs(cs) -> int:
@@ -158,29 +160,49 @@ def book_fit_times(results: dict) -> None:
         timing.add(f"  law {spec} (summed over workers)", sum(r.wall_s for r in runs if r is not None), len(runs))
 
 
-def interval_task(key: tuple, record, cs, params, bounds, per_test, of):
-    """The parameter intervals (fit.intervals) of one (device, model) calibration."""
-    return intervals(cs.model(key[1]), record, params, per_test, bounds, cs.intervals, seed=[cs.seed, 7], of=of)
+#: replicas per refit task, at most: a calibration's replicates spread over the processes
+REPLICAS_PER_TASK = 4
+
+
+def refit_task(key: tuple, first: int, cs, per_test, replicas, params, noise, bounds):
+    """The Newton refits (fit.intervals.newton_refits) of replicas ``first``,
+    ``first`` + 1, ... of one (device, model) calibration: (estimates, OFs)."""
+    model = cs.model(key[1])
+    layout = Layout(model, tuple(as_device(replicas[0]).test_names), tuple(per_test))
+    return newton_refits(model, layout, replicas, params, noise, bounds)
 
 
 def run_intervals(records, results: dict, cs: CampaignSettings, executor=None, progress: bool = True) -> dict:
     """{(device, spec): Intervals} of every calibration (the best run of each),
     through ``executor`` (default: a local process pool); empty when
-    ``cs.intervals`` is 0."""
+    ``cs.intervals`` is 0.  The replicas are drawn here, in one random
+    stream per calibration; their refits go out REPLICAS_PER_TASK at a
+    time, so one calibration's replicates share the processes and the
+    progress counts replicates.  The numbers are those of
+    ``fit.intervals.intervals`` in one process."""
     if not cs.intervals:
         return {}
     executor = executor or Processes(cs.jobs)
-    items = []
+    drawn, items = {}, []
     for rec in records:
         for spec in cs.specs:
-            best = min(results[(rec.name, spec)], key=lambda r: r.of)
-            items.append(((rec.name, spec), rec, cs, best.params, best.bounds, cs.per_test_for(spec), best.of))
-    out = {}
-    bar = progress_bar(len(items), progress, unit="calibration", desc=f"intervals ({cs.intervals} replicates)")
+            key, best = (rec.name, spec), min(results[(rec.name, spec)], key=lambda r: r.of)
+            per_test = cs.per_test_for(spec)
+            layout, replicas, noise = bootstrap_replicas(cs.model(spec), rec, best.params, per_test, cs.intervals,
+                                                         seed=[cs.seed, 7])
+            drawn[key] = (layout, best, np.zeros((len(replicas), best.params.size)), np.zeros(len(replicas)))
+            items += [(key, b, cs, per_test, replicas[b:b + REPLICAS_PER_TASK], best.params, noise, best.bounds)
+                      for b in range(0, len(replicas), REPLICAS_PER_TASK)]
+    bar = progress_bar(len(drawn) * cs.intervals, progress, unit="replicate",
+                       desc=f"intervals ({cs.intervals} replicates of {len(drawn)} calibration(s))")
     try:
-        for item, res in executor.run(interval_task, items):
-            out[item[0]] = res
-            bar.update()
+        for item, (estimates, ofs) in executor.run(refit_task, items):
+            _, _, all_estimates, all_ofs = drawn[item[0]]
+            first = item[1]
+            all_estimates[first:first + len(ofs)], all_ofs[first:first + len(ofs)] = estimates, ofs
+            bar.update(len(ofs))
     finally:
         bar.close()
-    return out
+    return {key: from_estimates(cs.model(key[1]), layout, best.params, estimates, float(np.mean(ofs)), best.bounds,
+                                best.of)
+            for key, (layout, best, estimates, ofs) in drawn.items()}

@@ -46,10 +46,10 @@ def add_campaign_options(p):
                    help=f"laws or model specs: '1-{max(LAWS)}', '2,6,9' or '2+friction,9' (default: the "
                         f"paper's nine, {PAPER_SPEC})")
     p.add_argument("--runs", type=int, default=20,
-                   help="independent runs per device and law (default 20); after the first 3, only for the "
+                   help="independent runs per device and law (default 20); after the first 2, only for the "
                         "models whose first runs did not end on one optimum (see --all-runs)")
     p.add_argument("--all-runs", action="store_true",
-                   help="make every run, also where the first 3 ended on one optimum (e.g. to time them all)")
+                   help="make every run, also where the first 2 ended on one optimum (e.g. to time them all)")
     p.add_argument("--out", help="output directory (required, here or in --config)")
     p.add_argument("--config", help="YAML file with any of these options as keys (laws, runs, out, bounds, "
                                     "bound: [..], seed, optimizer, pop, gens, stall, jobs, plugin: [..]); "

@@ -154,7 +154,19 @@ def intervals(model, record, params, per_test=(), bounds=None, replicates: int =
     """Bootstrap intervals of a calibration: ``params`` (the fit's columns) of
     ``model`` on ``record`` (a Record or a Device); ``bounds`` (n, 2): the
     fit's search bounds (an interval reaching one is not identified);
-    ``of``: the fit's OF, compared with what noise alone gives (``note``)."""
+    ``of``: the fit's OF, compared with what noise alone gives (``note``).
+    The three steps (``bootstrap_replicas``, ``newton_refits``,
+    ``from_estimates``) may run apart: a campaign spreads the refits over
+    its processes."""
+    layout, replicas, noise = bootstrap_replicas(model, record, params, per_test, replicates, seed)
+    estimates, ofs = newton_refits(model, layout, replicas, params, noise, bounds, progress)
+    return from_estimates(model, layout, params, estimates, float(np.mean(ofs)), bounds, of)
+
+
+def bootstrap_replicas(model, record, params, per_test=(), replicates: int = REPLICATES, seed=0):
+    """(layout, replicas, noise): ``replicates`` lab-like replicas of
+    ``record`` (Devices of one replicate per test) had ``params`` been the
+    truth, and each test's force noise [kN]."""
     device = as_device(record)
     layout = Layout(model, tuple(device.test_names), tuple(per_test))
     params = np.asarray(params, dtype=float)
@@ -169,8 +181,14 @@ def intervals(model, record, params, per_test=(), bounds=None, replicates: int =
     noise = [force_noise(test.F) for test in device.tests]
     replicas = [type(device)(device.name, [reps[b] for reps in per_test_reps], device.weights)
                 for b in range(count)]
-    estimates, noise_of = newton_refits(model, layout, replicas, params, noise, bounds, progress)
-    out = summarize(model, layout, params, estimates, bounds)
+    return layout, replicas, noise
+
+
+def from_estimates(model, layout, params, estimates: np.ndarray, noise_of: float, bounds=None,
+                   of: float | None = None) -> Intervals:
+    """The Intervals of the replicas' estimates (B, n); ``noise_of``: the
+    mean OF of ``params`` on them; ``of``: the fit's (``note``)."""
+    out = summarize(model, layout, np.asarray(params, dtype=float), estimates, bounds)
     out.noise_of = noise_of
     if of is not None and of > MISFIT * out.noise_of:
         out.note = (f"OF {of:.4g} is {of / out.noise_of:.1f}x what the noise alone gives ({out.noise_of:.4g}): "
@@ -180,11 +198,11 @@ def intervals(model, record, params, per_test=(), bounds=None, replicates: int =
 
 
 def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list, bounds=None,
-                  progress=None) -> tuple[np.ndarray, float]:
+                  progress=None) -> tuple[np.ndarray, np.ndarray]:
     """Each replica's (a Record or Device) estimate (B, n) by Newton steps
-    from ``params`` (module docstring), and the mean OF of ``params`` on the
-    replicas: what the noise alone gives.  ``noise``: per test, its force
-    noise [kN]."""
+    from ``params`` (module docstring), and the OF of ``params`` on each
+    replica (B,): what the noise alone gives.  ``noise``: per test, its
+    force noise [kN]."""
     replicas = [as_device(r) for r in replicas]
     estimates = np.repeat(np.asarray(params, dtype=float)[None, :], len(replicas), axis=0)
     ofs = np.zeros(len(replicas))
@@ -195,7 +213,7 @@ def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list
                                           overrides=_fixed(layout.names, bounds))[0])
         if progress:
             progress(b + 1)
-    return estimates, float(np.mean(ofs))
+    return estimates, ofs
 
 
 def _fixed(names: list, bounds) -> dict:
