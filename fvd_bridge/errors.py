@@ -36,6 +36,16 @@ def option(flag: str, value=None) -> str:
     return template.format(v=value)
 
 
+def words() -> str:
+    """Whose words messages speak here: "api" or "cli"."""
+    return _WORDS.get()
+
+
+def speak(who: str) -> None:
+    """Messages speak ``who``'s words from now on (a worker process takes its campaign's)."""
+    _WORDS.set(who)
+
+
 @contextlib.contextmanager
 def command_line_words():
     """Within: messages name command-line options (``fvd_bridge.cli``)."""

@@ -34,16 +34,23 @@ class LogProgress:
 
     def __init__(self, total: int, unit: str, desc: str, initial: int, stream):
         self.total, self.unit, self.desc, self.n, self.stream = total, unit, desc, initial, stream
-        self.text = ""
+        self.text = self.postfix = ""
         self.t0 = self.last = time.monotonic()
 
     def set_description(self, text: str, refresh: bool = True) -> None:
         self.text = text
+        self._now_and_then()
 
-    set_postfix_str = set_description
+    def set_postfix_str(self, text: str, refresh: bool = True) -> None:
+        """News from inside the work (campaign.news): a line now and then, also between updates."""
+        self.postfix = text
+        self._now_and_then()
 
     def update(self, k: int = 1) -> None:
         self.n += k
+        self._now_and_then()
+
+    def _now_and_then(self) -> None:
         if time.monotonic() - self.last >= LOG_EVERY_S:
             self._line()
 
@@ -53,6 +60,6 @@ class LogProgress:
     def _line(self) -> None:
         self.last = time.monotonic()
         head = f"{self.desc}: " if self.desc else ""
-        tail = f" | {self.text}" if self.text else ""
+        tail = "".join(f" | {x}" for x in (self.text, self.postfix) if x)
         print(f"{head}{self.n}/{self.total} {self.unit}s, {self.last - self.t0:.0f} s{tail}", file=self.stream,
               flush=True)

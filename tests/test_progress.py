@@ -40,3 +40,48 @@ def test_calibrate_into_a_log_file_writes_no_carriage_return(tmp_path):
                              "--out", str(tmp_path / "o")], stdout=log, stderr=log, env=cli_env()).returncode
     text = (tmp_path / "log.txt").read_text()
     assert rc == 0 and "\r" not in text and "2/2 fits" in text, text  # the first 2 runs agree: 2 of 3 made
+
+
+def _report_and_fail(label):
+    """A worker's task: one progress report, then bad input in the caller's words."""
+    from fvd_bridge.campaign import news
+    from fvd_bridge.errors import InputError, option
+
+    report = news.reporter(label)
+    assert report is not None, "the worker has no news queue"
+    report(7, 0.25)
+    raise InputError(f"{option('--plugin', 'x.py')}: no such file")
+
+
+def test_workers_report_progress_and_speak_the_callers_words():
+    """A Processes worker sends its fit's news to the campaign's Listener,
+    and an InputError raised in it names the command line's option under
+    the CLI, the Python argument otherwise."""
+    import contextlib
+    import time
+
+    import pytest
+    from fvd_bridge.campaign.executors import Processes
+    from fvd_bridge.campaign.news import Listener
+    from fvd_bridge.errors import InputError, command_line_words
+
+    for words, expected in ((command_line_words, "--plugin x.py: no such file"),
+                            (contextlib.nullcontext, "plugins=['x.py']: no such file")):
+        shown, ex = [], Processes(2)
+        with words(), Listener(ex.news, shown.append):
+            with pytest.raises(InputError) as err:
+                list(ex.run(_report_and_fail, [("a",), ("b",)]))
+            deadline = time.monotonic() + 10.0
+            while not shown and time.monotonic() < deadline:
+                time.sleep(0.05)
+        assert str(err.value) == expected
+        assert shown and shown[0] in ("a: step 7, OF 0.25", "b: step 7, OF 0.25"), shown
+
+
+def test_news_between_updates_reaches_a_log(monkeypatch):
+    """A fit's news (set_postfix_str) gives a log line of its own, with the last description."""
+    monkeypatch.setattr(progress, "LOG_EVERY_S", 0.0)
+    out = io.StringIO()
+    bar = progress.bar(2, stream=out, desc="fits")
+    bar.set_postfix_str("device_01/law9+gap/run0000: step 40, OF 0.0973")
+    assert out.getvalue().splitlines() == ["fits: 0/2 fits, 0 s | device_01/law9+gap/run0000: step 40, OF 0.0973"]

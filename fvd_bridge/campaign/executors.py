@@ -18,7 +18,8 @@ import signal
 import numpy as np
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from ..errors import InputError
+from ..errors import InputError, speak, words
+from .news import install as install_news
 
 
 class Serial:
@@ -38,12 +39,16 @@ def _stop_worker(signum, frame):
     os._exit(0)
 
 
-def _init_worker():
+def _init_worker(words: str = "api", news=None):
+    """A worker's start: SIGTERM ends it; its messages speak the caller's
+    ``words`` (errors.speak); its fits report to ``news`` (campaign.news)."""
     # first: SIGTERM ends the worker, also during this start-up (stop)
     signal.signal(signal.SIGTERM, _stop_worker)
     import numba  # lazily: only a worker sets numba's threads; importing executors stays numba-free
 
     numba.set_num_threads(1)  # the processes already use every core
+    speak(words)
+    install_news(news)
 
 
 class Processes:
@@ -58,6 +63,16 @@ class Processes:
         self.jobs = jobs or os.cpu_count() or 1
         self._shared = False
         self._pool = None
+        self._context = multiprocessing.get_context(
+            "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn")
+        self._news = None
+
+    @property
+    def news(self):
+        """The queue the workers' fits report their progress to (campaign.news)."""
+        if self._news is None:
+            self._news = self._context.Queue()
+        return self._news
 
     def __enter__(self):
         self._shared = True
@@ -70,9 +85,8 @@ class Processes:
         return False
 
     def _start(self) -> ProcessPoolExecutor:
-        method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-        return ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker,
-                                   mp_context=multiprocessing.get_context(method))
+        return ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker, initargs=(words(), self.news),
+                                   mp_context=self._context)
 
     def run(self, fn, items):
         items = list(items)

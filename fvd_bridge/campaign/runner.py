@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -16,6 +17,7 @@ from ..fit.space import Space
 from ..progress import bar as progress_bar
 from ..records.device import as_device
 from .executors import Processes
+from .news import Listener
 from .tasks import make_tasks, run_task
 
 
@@ -123,21 +125,29 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     k = first_runs(cs)
     results: dict = {(rec.name, spec): [None] * cs.runs for rec in records for spec in cs.specs}
     bar = progress_bar(len(tasks), progress, unit="fit")
+    news = getattr(getattr(executor, "inner", executor), "news", None)  # a Resumable's inner executor's
     try:
-        _run(executor, [t for t in tasks if t.run < k], records, cs, results, bar)
-        settled = {spec for spec in cs.specs if k < cs.runs
-                   and all(repeat_each_other(results[(rec.name, spec)][:k]) for rec in records)}
-        for spec in settled:
-            bar.total -= len(records) * (cs.runs - k)
-            for rec in records:
-                del results[(rec.name, spec)][k:]
-        if settled:
-            named = ", ".join(s for s in cs.specs if s in settled)
-            bar.set_description(f"the first {k} runs of {named} agree: not repeated")
-        _run(executor, [t for t in tasks if t.run >= k and t.spec not in settled], records, cs, results, bar)
+        with Listener(news, bar.set_postfix_str) if news is not None and progress else nullcontext():
+            _run_waves(executor, tasks, records, cs, results, bar, k)
     finally:
         bar.close()
     return results
+
+
+def _run_waves(executor, tasks, records, cs, results, bar, k) -> None:
+    """The first ``k`` runs of each (device, model), then the rest of the
+    models whose first runs do not repeat each other (``run_campaign``)."""
+    _run(executor, [t for t in tasks if t.run < k], records, cs, results, bar)
+    settled = {spec for spec in cs.specs if k < cs.runs
+               and all(repeat_each_other(results[(rec.name, spec)][:k]) for rec in records)}
+    for spec in settled:
+        bar.total -= len(records) * (cs.runs - k)
+        for rec in records:
+            del results[(rec.name, spec)][k:]
+    if settled:
+        named = ", ".join(s for s in cs.specs if s in settled)
+        bar.set_description(f"the first {k} runs of {named} agree: not repeated")
+    _run(executor, [t for t in tasks if t.run >= k and t.spec not in settled], records, cs, results, bar)
 
 
 def _run(executor, tasks, records, cs, results, bar) -> None:

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from ..fit import fit_model, settings_for
 from ..fit.nested import nested_start
+from .news import reporter
 
 
 @dataclass(frozen=True)
@@ -51,4 +52,5 @@ def run_task(task: Task, record, cs):
     start = (nested_start(model, record, given[0], given[1], per_test) if given is not None
              else cs.start_values_for(task.spec) or None)
     return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
-                     settings=settings, overrides=overrides, per_test=per_test, start=start)
+                     settings=settings, overrides=overrides, per_test=per_test, start=start,
+                     on_generation=reporter(task.id))

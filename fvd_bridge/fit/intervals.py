@@ -35,7 +35,9 @@ records (1,757 and 9,439 samples) 3-4.5 evaluations a replicate reach the
 replicates' own full refits (``polish_model``) to 0.04 of their spread,
 at a third of their cost (``tests/test_intervals.py``); a replicate whose
 steps do not settle (a singular H, a force that is not finite) is
-refitted by ``polish_model``.  With theta_b the replicates' estimates:
+refitted by ``polish_model`` (after NEWTON_MISSES such replicates in a
+row, the rest of the batch at once: a cost that is not smooth, a gap's
+dead zone).  With theta_b the replicates' estimates:
 
     bias = mean(theta_b) - theta,  stderr = sqrt(std(theta_b)^2 + (BIAS_SHARE bias)^2),
     95% interval = theta - bias -/+ 1.96 stderr
@@ -65,7 +67,7 @@ from ..records.cycles import force_noise
 from ..records.device import as_device
 from ..records.record import Record
 from ..records.velocity import _savgol, derive_with_windows, rederive, rest_mask, runs
-from .api import joint_residuals, polish_model, residual_weights
+from .api import evaluate_params, joint_residuals, polish_model, residual_weights
 from .layout import Layout
 
 #: bootstrap replicates of a calibration
@@ -83,6 +85,8 @@ SOFT_SHARE = 0.05
 STEP_TOL = 0.05
 #: at most this many Newton steps per replicate (and as many halvings), then its full refit
 NEWTON_STEPS = 8
+#: after this many replicas in a row whose steps did not settle, the others are refitted at once
+NEWTON_MISSES = 2
 #: forward-difference step of the replicates' gradients, a share of each parameter
 FD_SHARE = 1e-6
 #: two-sided 95% normal quantile
@@ -206,8 +210,13 @@ def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list
     replicas = [as_device(r) for r in replicas]
     estimates = np.repeat(np.asarray(params, dtype=float)[None, :], len(replicas), axis=0)
     ofs = np.zeros(len(replicas))
+    misses = 0  # replicas in a row whose steps did not settle
     for b, replica in enumerate(replicas):
-        settled, ofs[b] = _newton(model, layout, replica, params, noise, bounds)
+        if misses < NEWTON_MISSES:
+            settled, ofs[b] = _newton(model, layout, replica, params, noise, bounds)
+        else:  # the steps would not settle here either (a cost that is not smooth: a gap's dead zone)
+            settled, ofs[b] = None, evaluate_params(model, replica, params, per_test=layout.per_test)
+        misses = 0 if settled is not None else misses + 1
         estimates[b] = (settled if settled is not None
                         else polish_model(model, replica, params, per_test=layout.per_test,
                                           overrides=_fixed(layout.names, bounds))[0])
