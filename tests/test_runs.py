@@ -7,7 +7,6 @@ import subprocess
 
 import numpy as np
 import pytest
-import yaml
 
 import fvd_bridge as fb
 from conftest import CLI, cli_env
