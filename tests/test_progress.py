@@ -85,3 +85,32 @@ def test_news_between_updates_reaches_a_log(monkeypatch):
     bar = progress.bar(2, stream=out, desc="fits")
     bar.set_postfix_str("device_01/law9+gap/run0000: step 40, OF 0.0973")
     assert out.getvalue().splitlines() == ["fits: 0/2 fits, 0 s | device_01/law9+gap/run0000: step 40, OF 0.0973"]
+
+
+def _flood(label):
+    """A worker's task that reports far more than a pipe holds (64 kB), with no one reading."""
+    from fvd_bridge.campaign import news
+
+    news.EVERY_S = 0.0
+    report = news.reporter(label)
+    for step in range(20000):
+        report(step, 0.5)
+    return label
+
+
+def test_a_pool_whose_news_nobody_reads_still_ends():
+    """Workers given a news queue that no Listener drains exit at the pool's
+    end: the run returns instead of waiting on a full pipe forever."""
+    import threading
+
+    from fvd_bridge.campaign.executors import Processes
+
+    ex = Processes(2)
+    ex.news  # a queue the workers get, which nobody reads
+    done = []
+    worker = threading.Thread(target=lambda: done.extend(r for _, r in ex.run(_flood, [("a",), ("b",)])),
+                              daemon=True)
+    worker.start()
+    worker.join(timeout=120)
+    assert not worker.is_alive(), "the pool hung on its unread news"
+    assert sorted(done) == ["a", "b"]

@@ -69,7 +69,9 @@ class Processes:
 
     @property
     def news(self):
-        """The queue the workers' fits report their progress to (campaign.news)."""
+        """The queue the workers' fits report their progress to
+        (campaign.news): made when a listener asks for it, before the pool
+        starts; workers started without it report nothing."""
         if self._news is None:
             self._news = self._context.Queue()
         return self._news
@@ -85,7 +87,7 @@ class Processes:
         return False
 
     def _start(self) -> ProcessPoolExecutor:
-        return ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker, initargs=(words(), self.news),
+        return ProcessPoolExecutor(max_workers=self.jobs, initializer=_init_worker, initargs=(words(), self._news),
                                    mp_context=self._context)
 
     def run(self, fn, items):

@@ -23,8 +23,12 @@ _QUEUE = None  # in a worker: the campaign's queue (``install``)
 
 
 def install(queue) -> None:
-    """In a worker process: send the fits' news to ``queue`` (None: nowhere)."""
+    """In a worker process: send the fits' news to ``queue`` (None: nowhere).
+    The worker may exit with news still unread (its feeder thread is not
+    joined): a campaign without a listener must not hang on a full pipe."""
     global _QUEUE
+    if queue is not None:
+        queue.cancel_join_thread()
     _QUEUE = queue
 
 

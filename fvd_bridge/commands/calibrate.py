@@ -12,6 +12,7 @@ from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..calibration import Calibration
 from ..campaign.engine import run_calibrations
+from ..campaign.executors import Processes
 from ..campaign.runner import CampaignSettings
 from ..catalog import catalog as load_catalog
 from ..errors import InputError
@@ -285,9 +286,11 @@ def run(args) -> int:
     tests = f" ({len(records[0].tests)} tests)" if args.device else ""
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)
-    results, intervals = run_calibrations(records, cs, progress=not args.quiet)
-    with timing.stage("outputs, figures"):
-        summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures, intervals=intervals)
+    with Processes(cs.jobs) as executor:  # one pool for the fits, the intervals and the figures
+        results, intervals = run_calibrations(records, cs, executor, progress=not args.quiet)
+        with timing.stage("outputs, figures"):
+            summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures,
+                                    intervals=intervals, executor=executor)
     print(format_report(summary))
     print(f"\nwrote {args.out}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json"
           f"{', figures/' if not args.no_figures else ''})")
