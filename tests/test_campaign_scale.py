@@ -8,6 +8,7 @@ import shutil
 import signal
 import subprocess
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -295,8 +296,7 @@ def test_derived_quantities_are_averaged_over_runs():
 def test_runs_disagree_hint_never_names_the_optimizer_in_use(optimizer):
     from fvd_bridge.catalog import parse_model
 
-    runs = [fit("2", ["C", "alpha"], [45.0, 0.3], of, [[0, 900], [0, 1]]) for of in (0.139, 0.447)]
-    for r in runs:
-        r.optimizer = optimizer
+    runs = [replace(fit("2", ["C", "alpha"], [45.0, 0.3], of, [[0, 900], [0, 1]]), optimizer=optimizer)
+            for of in (0.139, 0.447)]
     msg = next(w["message"] for w in checks.fit_warnings(parse_model("2"), runs) if w["code"] == "runs_disagree")
     assert f"({optimizer})" in msg and ("--optimizer de" in msg) == (optimizer != "de")

@@ -12,6 +12,8 @@ and hysteretic devices (laws 8 and 9) behind a contact gap: gap first.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -144,8 +146,7 @@ def test_bad_base_start_is_recovered(folder):
     model = catalog().model("2")
     good = fit_model(model, rec, seed=[0, 0, 0, 0], settings=settings_for(DEFAULT_OPTIMIZER))
     bad = fit_model(model, rec, seed=0, settings=diagnose_settings(4, 2))
-    bad.params = np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01])
-    bad.of = float("inf")
+    bad = replace(bad, params=np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01]), of=float("inf"))
     diag = diagnose(rec, model, seed=0, settings=SETTINGS, base_fit=bad)
     assert diag.of <= 1.01 * good.of
     check_nested(diag)

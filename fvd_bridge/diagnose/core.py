@@ -25,7 +25,7 @@ candidate fit per test (``--per-test``, as calibrate fits them)."""
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -327,7 +327,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
                 break
             params, of = polish_model(model, record, start, per_test=per_test)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
-            base_fit.params, base_fit.of = params, of
+            base_fit = replace(base_fit, params=params, of=of)
             history.append(("lowered by a candidate's refit", float(of)))
             keep = {c.effect: c for c in found if not c.replaces}
     split = agree.per_test_params(model, device, base_fit.params, per_test)

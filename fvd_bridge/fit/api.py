@@ -108,11 +108,10 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
         before = (fit, dict(widened), more)
         widened = {**widened, **more}
         start = fit.params
-    fit.evaluations, fit.wall_s, fit.widened, fit.parent = evals, time.perf_counter() - t0, widened, parent_of
-    fit.flat_ends = flat
-    fit.test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0])
-                   for k, t in enumerate(device.tests)]
-    return fit
+    wall_s = time.perf_counter() - t0
+    test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0]) for k, t in enumerate(device.tests)]
+    return replace(fit, evaluations=evals, wall_s=wall_s, widened=widened, parent=parent_of, flat_ends=flat,
+                   test_of=test_of)
 
 
 def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, settings, substeps, on_generation,

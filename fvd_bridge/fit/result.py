@@ -17,9 +17,10 @@ class Parent(NamedTuple):
     of: float
 
 
-@dataclass
+@dataclass(frozen=True)
 class FitResult:
-    """Best parameters [units per ``units``], their OF (eq. 18) and how they were found."""
+    """Best parameters [units per ``units``], their OF (eq. 18) and how they were found
+    (frozen: a changed fit is ``dataclasses.replace(fit, ...)``)."""
 
     spec: str
     names: list
