@@ -177,8 +177,8 @@ def test_a_campaign_of_devices_with_several_tests(three_tests, tmp_path):
     assert cli.main(["campaign", str(path), "--quiet"]) == 0
     one = Calibration.load(str(tmp_path / "o" / "params" / "sn101" / "law2.yaml"))
     two = Calibration.load(str(tmp_path / "o" / "params" / "sn102" / "law2.yaml"))
-    assert [t["name"] for t in one.tests] == ["sn101_10mm", "sn101_20mm"] and one.device == "sn101"
-    assert [t["name"] for t in two.tests] == ["sn101_30mm"]
+    assert [t.name for t in one.tests] == ["sn101_10mm", "sn101_20mm"] and one.device == "sn101"
+    assert [t.name for t in two.tests] == ["sn101_30mm"]
     assert one.named()["C"] == pytest.approx(40.0, rel=0.05)
 
 

@@ -7,10 +7,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
+import fvd_bridge as fb
+from fvd_bridge.calibration import Calibration
+from fvd_bridge.calibration.parts import RunStats, TestFit
 from fvd_bridge.campaign.store import result_from_dict, result_to_dict
 from fvd_bridge.catalog import catalog
+from fvd_bridge.errors import InputError
 from fvd_bridge.fit import fit_model
+from fvd_bridge.records.device import tested_range as peaks_of
 from fvd_bridge.rig import Device, Noise, paper, simulate
 
 V3 = Path(__file__).resolve().parent / "fixtures" / "calibration_v3"
@@ -36,3 +42,68 @@ def test_a_stored_unit_reads_back_as_the_same_fit(law2_fit):
     back = result_from_dict(result_to_dict(law2_fit))
     assert back.as_dict() == law2_fit.as_dict() and back.names == law2_fit.names
     assert np.array_equal(back.params, law2_fit.params) and np.array_equal(back.bounds, law2_fit.bounds)
+
+
+# ------------------------------------------------- the calibration's tests and runs
+def shape(x):
+    """The keys of a file's mapping all the way down (list items by position), not its numbers."""
+    if isinstance(x, dict):
+        return {k: shape(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [shape(v) for v in x]
+    return type(x).__name__ if isinstance(x, (str, bool)) or x is None else "number"
+
+
+def without_version(text: str) -> str:
+    return "\n".join(line for line in text.splitlines() if not line.startswith("fvd_bridge_version:"))
+
+
+@pytest.mark.parametrize("name", ["device_per_test.yaml", "law8_one_test.yaml"])
+def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_path):
+    """The fixtures were written by fvd_bridge 0.3.0 (commit a8ef21b), when the tests were dicts."""
+    cal = Calibration.load(str(V3 / name))
+    assert isinstance(cal.tests, tuple) and all(isinstance(t, TestFit) for t in cal.tests)
+    assert isinstance(cal.runs, RunStats) and len(cal.runs.p_mean) == len(cal.values)
+    again = Calibration.load(cal.save(str(tmp_path / name)))
+    assert without_version((tmp_path / name).read_text()) == without_version((V3 / name).read_text())
+    assert again.tests == cal.tests and again.runs == cal.runs and np.array_equal(again.values, cal.values)
+    assert again.record == cal.record and again.intervals == cal.intervals and again.settings == cal.settings
+
+
+def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before():
+    dev = Device(C=45.4, alpha=0.3, friction=2.0)
+    noise = Noise(force=0.5, displacement=0.005)
+    slow = simulate(dev, paper(cycles=2), noise, seed=1, name="sn7_slow")
+    fast = simulate(dev, paper(amplitude=15.0, velocity=300.0, cycles=2), noise, seed=2, name="sn7_fast")
+    cal = fb.calibrate([slow, fast], "2+friction", runs=3, seed=4, device="sn7", per_test=["C"], intervals=20,
+                       all_runs=True)
+    assert [t.name for t in cal.tests] == ["sn7_slow", "sn7_fast"] and [t.weight for t in cal.tests] == [0.5, 0.5]
+    with pytest.raises(FrozenInstanceError):
+        cal.tests[0].of = 0.0
+    # each test's OF is eq. 18 of the model with that test's parameters on it
+    for test, rec in zip(cal.tests, (slow, fast)):
+        assert test.of == pytest.approx(cal.of_on(rec), rel=1e-12) and set(test.parameters) == {"C"}
+        assert test.record["samples"] == rec.n and test.range == peaks_of(rec)
+    assert cal.params["C"].per_test == {t.name: t.parameters["C"] for t in cal.tests}
+    # the run statistics hold the model's parameters only (not the per-test column)
+    assert len(cal.runs.p_mean) == len(cal.runs.p_sigma) == 3 and cal.runs.of_mean >= cal.of
+    written = cal.to_dict()
+    before = yaml.safe_load((V3 / "device_per_test.yaml").read_text())
+    assert shape(written) == shape(before) and list(written) == list(before)
+    assert written["tests"] == [t.as_dict() for t in cal.tests]
+    assert written["of_mean_over_runs"] == cal.runs.of_mean and written["of_sigma_over_runs"] == cal.runs.of_sigma
+
+
+def test_run_statistics_from_a_dict_and_without_runs(law2_fit):
+    rec = simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
+    model = catalog().model("2")
+    alone = Calibration.from_fit(model, law2_fit, rec)
+    assert alone.runs is None
+    d = alone.to_dict()
+    assert (d["of_mean_over_runs"], d["of_sigma_over_runs"]) == (alone.of, 0.0)
+    assert [p["mean_over_runs"] for p in d["parameters"].values()] == list(alone.values)
+    runs = {"of_mean": 0.2, "of_sigma": 0.01, "p_mean": np.array([45.0, 0.3, 9.0]), "p_sigma": np.array([1, 0, 9])}
+    kept = Calibration.from_fit(model, law2_fit, rec, runs=runs)
+    assert kept.runs == RunStats(0.2, 0.01, (45.0, 0.3), (1.0, 0.0))
+    with pytest.raises(InputError, match="of_mean, of_sigma"):
+        RunStats.from_dict({"of_mean": 0.2, "of_sd": 0.01})

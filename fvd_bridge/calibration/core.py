@@ -17,6 +17,7 @@ from ..io.staging import atomic_file
 from ..records.device import as_device, tested_range
 from . import schema, tested as tested_mod, text
 from ..io.staging import num
+from .parts import RunStats, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
 from .text import REPORTED_CORRELATION
@@ -68,12 +69,17 @@ class Calibration:
     record: dict = field(default_factory=dict)
     settings: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
-    runs: dict = field(default_factory=dict)  # of_mean, of_sigma, p_mean, p_sigma over runs
+    runs: RunStats | None = None  # of_mean, of_sigma, p_mean, p_sigma over runs (None: no runs recorded)
     path: str | None = None  # the file it was read from
-    tests: list = field(default_factory=list)  # per test: name, weight, of, range, record, parameters
+    tests: tuple = ()  # TestFit per test: name, weight, of, range, record, parameters
     device: str = ""
     intervals: dict = field(default_factory=dict)  # fit.intervals.Intervals.as_dict() ({} : none)
     records: list = field(default_factory=list, repr=False, compare=False)  # the Records fitted (not saved)
+
+    def __post_init__(self):
+        """Tests given as the file's blocks become TestFits, run statistics given as a dict RunStats."""
+        self.tests = tuple(t if isinstance(t, TestFit) else TestFit.from_dict(t) for t in self.tests)
+        self.runs = RunStats.from_dict(self.runs)
 
     def __repr__(self) -> str:
         return f"<Calibration {self.spec} of {self.device or self.record.get('name', '?')}: OF {self.of:.4g}>"
@@ -85,7 +91,7 @@ class Calibration:
         out = {}
         for name, unit, value, (lo, hi) in zip(self.model.names, self.model.units, self.values, bounds):
             entry = schema.interval_entry(self, name)
-            per_test = {t["name"]: t["parameters"][name] for t in self.tests if name in (t.get("parameters") or {})}
+            per_test = {t.name: t.parameters[name] for t in self.tests if name in t.parameters}
             out[name] = FittedParameter(name, float(value), unit, entry.get("stderr"),
                                         tuple(entry["ci95"]) if "ci95" in entry else None,
                                         (num(lo), num(hi)), per_test)
@@ -177,7 +183,7 @@ class Calibration:
         """The data its OF was computed on: (record file, else test name;
         samples; weight) of each test.  Two calibrations' OFs rank only when
         these are equal (``same_data``)."""
-        return frozenset((*data_key(t), round(float(t.get("weight", 1.0)), 9)) for t in self.tests)
+        return frozenset((*data_key(t), round(float(t.weight), 9)) for t in self.tests)
 
     def of_on(self, record) -> float:
         """The OF (eq. 18) of the model's force on a record, as ``compare`` computes it.
@@ -194,7 +200,7 @@ class Calibration:
             The OF of the model's force against the record's.
         """
         key = ((record.provenance or {}).get("file") or record.name, record.n)
-        own = next((t["name"] for t in self.tests if data_key(t) == key), None)
+        own = next((t.name for t in self.tests if data_key(t) == key), None)
         F = self.force(record, test=self.test_named(own) if own else None)
         return float(objective(record.F, F, record.t))
 
@@ -312,7 +318,7 @@ class Calibration:
             That test when the calibration has several (a parameter fitted per
             test), else None (the shared values).
         """
-        return name if len(self.tests) > 1 and name in [t["name"] for t in self.tests] else None
+        return name if len(self.tests) > 1 and name in [t.name for t in self.tests] else None
 
     def params_for(self, test: str | None = None) -> np.ndarray:
         """The parameter vector on one test.
@@ -325,10 +331,10 @@ class Calibration:
         """
         if test is None:
             return self.values
-        names = [t["name"] for t in self.tests]
+        names = [t.name for t in self.tests]
         if test not in names:
             raise InputError(f"{option('--test', test)}: the calibration has tests {', '.join(names)}")
-        values = {**dict(zip(self.model.names, self.values)), **(self.tests[names.index(test)].get("parameters") or {})}
+        values = {**dict(zip(self.model.names, self.values)), **self.tests[names.index(test)].parameters}
         return np.array([values[n] for n in self.model.names], dtype=float)
 
     def force(self, record, substeps: int = 1, test: str | None = None) -> np.ndarray:
@@ -370,8 +376,9 @@ class Calibration:
             The fit's settings, kept as provenance.
         warnings : sequence of str
             The fit's warnings.
-        runs : dict, optional
-            Statistics over repeated runs (p_mean, p_sigma, ...).
+        runs : RunStats or dict, optional
+            Statistics over repeated runs: {of_mean, of_sigma, p_mean, p_sigma}
+            (the parameter vectors may hold the per-test columns after the model's).
         intervals : Intervals, optional
             The parameters' intervals (``fit.intervals``).
         """
@@ -383,16 +390,12 @@ class Calibration:
         tests = []
         for k, (test, w) in enumerate(zip(device.tests, device.weights)):
             p = np.asarray(fit.params, dtype=float)[layout.columns(k)]
-            tests.append({"name": test.name, "weight": float(w), "of": float(test_of[k]),
-                          "range": tested_range(test), "record": record_provenance(test),
-                          "parameters": {m: float(p[model.names.index(m)]) for m in layout.free}})
-        runs = dict(runs or {})
-        for key in ("p_mean", "p_sigma"):
-            if key in runs:
-                runs[key] = np.asarray(runs[key])[:n]
+            tests.append(TestFit(test.name, float(w), float(test_of[k]), tested_range(test), record_provenance(test),
+                                 {m: float(p[model.names.index(m)]) for m in layout.free}))
         return cls(model=model, values=np.asarray(fit.params, dtype=float)[:n], of=float(fit.of),
                    bounds=np.asarray(fit.bounds, dtype=float)[:n], record=record_provenance(device.tests[0]),
-                   settings=dict(settings or {}), warnings=list(warnings), runs=runs, tests=tests,
+                   settings=dict(settings or {}), warnings=list(warnings), runs=RunStats.from_dict(runs, n),
+                   tests=tuple(tests),
                    device=device.name, intervals=intervals.as_dict() if intervals is not None else {},
                    records=list(device.tests))
 

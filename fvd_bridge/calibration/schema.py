@@ -48,6 +48,7 @@ from ..catalog import catalog_for, plugin_files, recorded_plugins
 from ..errors import InputError
 from ..fit.layout import SEP
 from ..io.staging import plain
+from .parts import RunStats, TestFit
 
 SCHEMA_VERSION = 3
 READABLE_SCHEMAS = (1, 2, 3)
@@ -58,8 +59,9 @@ UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
 def to_dict(cal) -> dict:
     """The file's mapping of a Calibration (the module docstring)."""
     law = cal.model.law
-    p_mean = cal.runs.get("p_mean", cal.values)
-    p_sigma = cal.runs.get("p_sigma", np.zeros(len(cal.values)))
+    runs = cal.runs or RunStats(float(cal.of), 0.0)
+    p_mean = cal.values if runs.p_mean is None else runs.p_mean
+    p_sigma = np.zeros(len(cal.values)) if runs.p_sigma is None else runs.p_sigma
     derived_info = {d.name: d.description for d in law.derived}
     return {
         "schema_version": SCHEMA_VERSION,
@@ -82,10 +84,10 @@ def to_dict(cal) -> dict:
                                                                        "not_identified")},
             "correlation": plain(cal.intervals["correlation"])} if cal.intervals else {}),
         "of": float(cal.of),
-        "of_mean_over_runs": float(cal.runs.get("of_mean", cal.of)),
-        "of_sigma_over_runs": float(cal.runs.get("of_sigma", 0.0)),
+        "of_mean_over_runs": float(runs.of_mean),
+        "of_sigma_over_runs": float(runs.of_sigma),
         "device": cal.device or cal.record.get("name"),
-        "tests": plain(cal.tests),
+        "tests": plain([t.as_dict() for t in cal.tests]),
         "tested_range": plain(cal.tested),
         "record": plain(cal.record),
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
@@ -107,7 +109,8 @@ def interval_entry(cal, name: str) -> dict:
 
 def read(path: str, catalog=None, plugins=()) -> dict:
     """The checked content of a calibration file as ``Calibration``'s
-    fields (``Calibration.load``); it imports nothing but the plugins given."""
+    fields (``Calibration.load``; its tests TestFits, its run statistics
+    RunStats); it imports nothing but the plugins given."""
     data = _read_yaml(path)
     if not isinstance(data, dict) or data.get("kind") != KIND:
         raise InputError(f"{path}: not an fvd_bridge calibration file (key 'kind')")
@@ -129,8 +132,9 @@ def read(path: str, catalog=None, plugins=()) -> dict:
     if data["schema_version"] == 1:  # v1 kept no column mapping or source units
         record.setdefault("columns", None)
         record.setdefault("source_units", None)
-    runs = {"of_mean": data.get("of_mean_over_runs", of), "of_sigma": data.get("of_sigma_over_runs", 0.0),
-            "p_mean": means, "p_sigma": sigmas}
+    runs = RunStats(_number(path, "of_mean_over_runs", data.get("of_mean_over_runs", of)),
+                    _number(path, "of_sigma_over_runs", data.get("of_sigma_over_runs", 0.0)),
+                    tuple(map(float, means)), tuple(map(float, sigmas)))
     tests = data.get("tests") or [{"name": record.get("name"), "weight": 1.0, "of": of, "record": record,
                                    "range": {k: (record.get("peaks") or {}).get(k) for k in ("d", "v")},
                                    "parameters": {}}]
@@ -138,7 +142,7 @@ def read(path: str, catalog=None, plugins=()) -> dict:
         raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
     return {"model": model, "values": values, "of": of, "bounds": bounds, "record": record,
             "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
-            "path": os.path.abspath(path), "tests": tests,
+            "path": os.path.abspath(path), "tests": tuple(TestFit.from_dict(t) for t in tests),
             "device": str(data.get("device") or record.get("name") or ""), "intervals": _intervals(data)}
 
 

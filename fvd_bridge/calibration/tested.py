@@ -13,10 +13,10 @@ TESTED_MARGIN = 0.05
 def tested(cal) -> dict:
     """The tested range: peak stroke d [mm], velocity v [mm/s], force F [kN]
     over every test, and the tests' frequencies f = (lowest, highest) in Hz (None: unknown)."""
-    ranges = [t.get("range") or {} for t in cal.tests]
+    ranges = [t.range for t in cal.tests]
     peaks = (cal.record or {}).get("peaks") or {}
     out = {k: max([r[k] for r in ranges if r.get(k)] + [peaks.get(k) or 0.0]) or None for k in ("d", "v")}
-    out["F"] = max([(t.get("record") or {}).get("peaks", {}).get("F") or 0.0 for t in cal.tests]
+    out["F"] = max([(t.record.get("peaks") or {}).get("F") or 0.0 for t in cal.tests]
                    + [peaks.get("F") or 0.0]) or None
     f = [r["f"] for r in ranges if r.get("f")]
     out["f"] = [min(f), max(f)] if f else None
@@ -59,10 +59,9 @@ def provenance_lines(cal) -> list[str]:
     return [*([f"calibrated on record {name}"] if name else []), tested_text(cal)]
 
 
-def data_key(test: dict) -> tuple:
-    """What a test of a calibration holds: (its record file, else its name; its samples)."""
-    block = test.get("record") or {}
-    return (block.get("file") or test.get("name"), block.get("samples"))
+def data_key(test) -> tuple:
+    """What a test (TestFit) of a calibration holds: (its record file, else its name; its samples)."""
+    return (test.record.get("file") or test.name, test.record.get("samples"))
 
 
 def same_data(calibrations) -> bool:
@@ -71,8 +70,8 @@ def same_data(calibrations) -> bool:
     return len({c.fitted_on for c in calibrations}) <= 1
 
 
-def common_tests(calibrations) -> list[dict]:
-    """The tests (as the first calibration holds them) every calibration was fitted on."""
+def common_tests(calibrations) -> list:
+    """The tests (TestFits, as the first calibration holds them) every calibration was fitted on."""
     calibrations = list(calibrations)
     if not calibrations:
         return []

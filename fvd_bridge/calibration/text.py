@@ -16,20 +16,20 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
     statistics, variables with stderr and 95% intervals, derived quantities,
     correlations of at least ``min_correlation`` and warnings."""
     law = cal.model.law
-    n = sum((t.get("record") or {}).get("samples") or 0 for t in cal.tests) or cal.record.get("samples")
+    n = sum(t.record.get("samples") or 0 for t in cal.tests) or cal.record.get("samples")
     lines = ["[[Model]]", f"    {cal.spec}: law {law.key} ({law.name}), {law.equation}"]
     lines += [f"    + {e.name}: {e.equation}" for e in cal.model.effects]
     lines += ["[[Fit Statistics]]",
               f"    device:        {cal.device or cal.record.get('name')} ({len(cal.tests) or 1} test(s), "
               f"{n} samples)",
               f"    OF (eq. 18):   {cal.of:.6g}"]
-    lines += [f"    OF {t['name']}: {t['of']:.6g}" for t in cal.tests if len(cal.tests) > 1]
+    lines += [f"    OF {t.name}: {t.of:.6g}" for t in cal.tests if len(cal.tests) > 1]
     asked = cal.settings.get("runs", 1)
     made = cal.settings.get("runs_made", asked)
-    if cal.runs.get("of_sigma") is not None and asked > 1:
+    if cal.runs is not None and asked > 1:
         why = f" (they ended on one optimum: the other {asked - made} would repeat them)" if made < asked else ""
-        lines.append(f"    runs:          {made} of {asked}, OF mean {cal.runs['of_mean']:.6g}, "
-                     f"sigma {cal.runs['of_sigma']:.2g}{why}")
+        lines.append(f"    runs:          {made} of {asked}, OF mean {cal.runs.of_mean:.6g}, "
+                     f"sigma {cal.runs.of_sigma:.2g}{why}")
     if cal.settings.get("optimizer"):
         lines.append(f"    optimizer:     {cal.settings['optimizer']}, seed {cal.settings.get('seed')}")
     lines += [f"    {cal.tested_text()}", "[[Variables]]"]
@@ -62,8 +62,7 @@ def interval_lines(cal) -> list[str]:
     if not cal.intervals:
         return []
     given = cal.intervals["parameters"]
-    values = {**cal.named(), **{f"{n}{SEP}{t['name']}": v for t in cal.tests
-                                 for n, v in (t.get("parameters") or {}).items()}}
+    values = {**cal.named(), **{f"{n}{SEP}{t.name}": v for t in cal.tests for n, v in t.parameters.items()}}
     units = dict(zip(cal.model.names, cal.model.units))
 
     def unit(name):

@@ -185,7 +185,7 @@ def _figures(stage, records, summary, cs, executor=None):
             for k, rec in enumerate(tests):
                 name = rec.name if len(tests) == 1 else f"{dev.name}_{rec.name}"
                 figures.append((plots.loops, rec, cal.force(rec, test=rec.name),
-                                f"{name}, law {spec}: OF {cal.tests[k]['of']:.4f}",
+                                f"{name}, law {spec}: OF {cal.tests[k].of:.4f}",
                                 os.path.join(fig_dir, f"loops_{name}_law{spec}.png")))
     M = summary["models"]
     figures.append((plots.of_bars, specs, devices, np.array([M[s]["of_mean"] for s in specs]),

@@ -296,14 +296,14 @@ def rank_common(cases, calibrations, record=None) -> None:
         case.ranked_on = (what, float(np.mean([cal.of_on(r) for r in records])))
 
 
-def _at_hand(test: dict, calibrations):
+def _at_hand(test, calibrations):
     """A common test's record: one a calibration keeps in memory, else its file read as calibrated; None: gone."""
     key = data_key(test)
     for cal in calibrations:
         for rec in cal.records:
             if ((rec.provenance or {}).get("file") or rec.name, rec.n) == key:
                 return rec
-    rec = read_as_stored(test.get("record") or {})
+    rec = read_as_stored(test.record)
     if rec is not None:
-        rec.name = test["name"]
+        rec.name = test.name
     return rec

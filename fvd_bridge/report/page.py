@@ -48,11 +48,11 @@ p.answer{font-size:1.1em;background:#f3f6fb;border-left:4px solid #336;padding:.
 pre.next{background:#f6f6f6;padding:.5em .8em;white-space:pre-wrap;word-break:break-all}"""
 
 
-def _record(test: dict):
-    """A calibration's test read again as it was calibrated, named as the test; None when its file is gone."""
-    rec = read_as_stored(test.get("record") or {})
+def _record(test):
+    """A calibration's test (TestFit) read again as it was calibrated, named as the test; None when its file is gone."""
+    rec = read_as_stored(test.record)
     if rec is not None:
-        rec.name = test["name"]
+        rec.name = test.name
     return rec
 
 
@@ -94,7 +94,7 @@ def _best(cals: list, records: dict) -> tuple:
     were fitted on (their records read again); else, not ranked, the first."""
     if same_data(cals):
         return min(cals, key=lambda c: c.of), "the lowest OF"
-    common = [records[t["name"]] for t in common_tests(cals) if records.get(t["name"]) is not None]
+    common = [records[t.name] for t in common_tests(cals) if records.get(t.name) is not None]
     if common:
         names = ", ".join(r.name for r in common)
         return min(cals, key=lambda c: np.mean([c.of_on(r) for r in common])), f"the lowest OF on {names}"
@@ -161,7 +161,7 @@ def _next_commands(cal, device: str, shown: str, out: str, floor: float | None) 
     refusal = cal.model.exports(cal.named())
     target, output = ("opensees", "damper.py") if not refusal["opensees"] else ("fmu", "damper.fmu")
     lines = [f"fvd-bridge export {target} {path} -o {output}"]
-    blocks = [t.get("record") or {} for t in cal.tests]
+    blocks = [t.record for t in cal.tests]
     if (floor is None or cal.of > NEAR_FLOOR * floor) and all(b.get("file") for b in blocks) and blocks:
         files = [shlex.quote(b["file"]) for b in blocks]
         one = ["--device", shlex.quote(device)] if len(files) > 1 else []
@@ -183,9 +183,9 @@ def _acceptance(device: str, cals: list, series: dict, records: dict, tolerance:
     rows, notes = [], []
     size = len(series[best.spec])
     for test in best.tests:
-        rec = records.get(test["name"])
+        rec = records.get(test.name)
         if rec is None:
-            notes.append(f"{test['name']}: its record file is not found; no acceptance checks")
+            notes.append(f"{test.name}: its record file is not found; no acceptance checks")
             continue
         rows += checks_of_test(rec, _series_force(series[best.spec], rec), tolerance, size)
     caption = (f"acceptance of {device}: tolerance +-{share(tolerance)}; nominal force: law {best.spec} ({chosen}) "
@@ -209,10 +209,10 @@ def _tests_table(cals: list, records: dict) -> str:
     """Each test's range, its noise-floor OF (the record's force noise alone) and each model's OF on it."""
     rows = []
     for t in cals[0].tests:
-        block, rng, rec = t.get("record") or {}, t.get("range") or {}, records.get(t["name"])
+        block, rng, rec = t.record, t.range, records.get(t.name)
         floor = None if rec is None else noise_floor(force_noise(rec.F), rec.F)
-        ofs = [next((u.get("of") for u in c.tests if u["name"] == t["name"]), None) for c in cals]
-        rows.append([t["name"], block.get("samples", "-"), rounded(block.get("dt")), rounded(rng.get("d")),
+        ofs = [next((u.of for u in c.tests if u.name == t.name), None) for c in cals]
+        rows.append([t.name, block.get("samples", "-"), rounded(block.get("dt")), rounded(rng.get("d")),
                      rounded(rng.get("v")), rounded(rng.get("f")), rounded((block.get("peaks") or {}).get("F")),
                      rounded(floor, digits=3), *[rounded(x) for x in ofs]])
     return table(["test", "samples", "dt [s]", "stroke [mm]", "velocity [mm/s]", "frequency [Hz]",
@@ -271,7 +271,7 @@ def _exports(out: str, device: str, cals: list, records: dict) -> str:
 
 def _loop_figures(out: str, device: str, cal) -> list:
     """The calibration's loop figures, by the names ``campaign.outputs`` gives them."""
-    names = [f"loops_{t['name'] if len(cal.tests) == 1 else device + '_' + t['name']}_law{cal.spec}.png"
+    names = [f"loops_{t.name if len(cal.tests) == 1 else device + '_' + t.name}_law{cal.spec}.png"
              for t in cal.tests]
     return [p for p in (os.path.join(out, "figures", n) for n in names) if os.path.isfile(p)]
 
@@ -281,7 +281,7 @@ def _device_section(out: str, shown: str, device: str, cals: list, series: dict,
     """One device, the answer first: the model to use and how good it is
     against the noise floor, its parameters, its loops, where it fails, the
     next command; then the other models, the tests, acceptance and exports."""
-    records = {t["name"]: _record(t) for t in cals[0].tests}
+    records = {t.name: _record(t) for t in cals[0].tests}
     best, chosen = _best(cals, records)
     told = read_json(os.path.join(out, f"{safe_name(device)}_diagnose.json")) if diagnosed else None
     floor = (told or {}).get("noise_floor_of") or _floor(records, best)  # a diagnosis' floor: the record's

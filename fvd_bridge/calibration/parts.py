@@ -1,0 +1,72 @@
+"""The parts of a calibration's result, as small frozen records: ``TestFit``
+(one test it was fitted on) and ``RunStats`` (the statistics over its
+seeded runs).  ``schema`` writes and reads them as the file's blocks."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..errors import InputError
+
+#: the keys of a test's block in the calibration file, in the order written
+TEST_KEYS = ("name", "weight", "of", "range", "record", "parameters")
+
+
+@dataclass(frozen=True)
+class TestFit:
+    """One test of a calibration: its ``name``; its ``weight`` in the OF; its
+    ``of`` (eq. 18; None: not recorded); its peak ``range`` {d [mm], v [mm/s],
+    f [Hz]}; its ``record`` block (the file's 'record' provenance: file,
+    samples, dt [s], peaks, ...); its ``parameters`` fitted per test
+    {name: value [the model's units]} ({}: all shared)."""
+
+    __test__ = False  # a data record, not a pytest class
+
+    name: str
+    weight: float = 1.0
+    of: float | None = None
+    range: dict = field(default_factory=dict)
+    record: dict = field(default_factory=dict)
+    parameters: dict = field(default_factory=dict)
+
+    @classmethod
+    def from_dict(cls, block: dict) -> "TestFit":
+        """A test from its file block (missing keys take the defaults)."""
+        return cls(name=block["name"], weight=float(block.get("weight", 1.0)), of=block.get("of"),
+                   range=dict(block.get("range") or {}), record=dict(block.get("record") or {}),
+                   parameters=dict(block.get("parameters") or {}))
+
+    def as_dict(self) -> dict:
+        """The file's block: {name, weight, of, range, record, parameters}."""
+        return {key: getattr(self, key) for key in TEST_KEYS}
+
+
+@dataclass(frozen=True)
+class RunStats:
+    """Statistics over a calibration's seeded runs: the OF's mean and
+    standard deviation (eq. 18), and the parameters' (model order, the
+    model's units; None: not recorded)."""
+
+    of_mean: float
+    of_sigma: float
+    p_mean: tuple | None = None
+    p_sigma: tuple | None = None
+
+    @classmethod
+    def from_dict(cls, given, n: int | None = None) -> "RunStats | None":
+        """RunStats from a RunStats or a dict {of_mean, of_sigma, p_mean,
+        p_sigma} (its parameter vectors cut to the first ``n``); None from
+        None or {} (no run statistics)."""
+        if given is None or isinstance(given, RunStats):
+            return given
+        if not given:
+            return None
+        unknown = sorted(set(given) - {"of_mean", "of_sigma", "p_mean", "p_sigma"})
+        if unknown or "of_mean" not in given or "of_sigma" not in given:
+            raise InputError(f"runs: give of_mean, of_sigma[, p_mean, p_sigma] (got {', '.join(map(str, given))})")
+
+        def vector(key):
+            x = given.get(key)
+            return None if x is None else tuple(float(v) for v in list(x)[:n])
+
+        return cls(float(given["of_mean"]), float(given["of_sigma"]), vector("p_mean"), vector("p_sigma"))
