@@ -59,8 +59,9 @@ class FittedParameter:
 @dataclass
 class Calibration:
     """A calibrated model: the Model, its parameter vector (model order) with
-    bounds and run statistics, the OF, where the record came from, the settings
-    and the fit warnings."""
+    bounds, the OF, where the record came from, the settings and the fit
+    warnings; ``tests``: a TestFit per test fitted, ``runs``: the RunStats
+    over the seeded runs (None: not recorded)."""
 
     model: object  # fvd_bridge.model.Model
     values: np.ndarray  # the parameters in model order [the model's units]
