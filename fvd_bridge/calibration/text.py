@@ -27,7 +27,7 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
     asked = cal.settings.get("runs", 1)
     made = cal.settings.get("runs_made", asked)
     if cal.runs is not None and asked > 1:
-        why = f" (they ended on one optimum: the other {asked - made} would repeat them)" if made < asked else ""
+        why = f" (they ended on one optimum: the other {asked - made} were not made)" if made < asked else ""
         lines.append(f"    runs:          {made} of {asked}, OF mean {cal.runs.of_mean:.6g}, "
                      f"sigma {cal.runs.of_sigma:.2g}{why}")
     if cal.settings.get("optimizer"):

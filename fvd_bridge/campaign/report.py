@@ -60,7 +60,7 @@ def _runs_lines(models: dict, asked: int | None) -> list:
         return []
     made = models[settled[0]]["runs_made"]
     return [f"law {', '.join(settled)}: the first {made} runs ended on one optimum on every device; the other "
-            f"{asked - made} of {asked} would repeat them and were not made (--all-runs makes them)"]
+            f"{asked - made} of {asked} were not made (--all-runs makes them)"]
 
 
 def _test_rows(m: dict, n_devices: int) -> list:

@@ -100,8 +100,7 @@ def repeat_each_other(runs) -> bool:
     """Runs that ended on one optimum: every OF within the local search's
     L1_TOLERANCE share of the best (how close its end is to eq. 18's
     optimum) and every parameter within SAME_BASIN of the best run's
-    (unit-cube distance: the local search's own test of one basin).  More
-    runs from other seeds can then only repeat them."""
+    (unit-cube distance: the local search's own test of one basin)."""
     best = min(runs, key=lambda r: r.of)
     space = Space.of(best.bounds, best.log or None)
     at = space.position(np.asarray(best.params))
@@ -116,7 +115,9 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     each, then the rest of ``cs.runs`` of the models whose first runs do not
     ``repeat_each_other`` on every device (all of them with ``cs.all_runs``).
     The runs made are the first of the same seeded sequence a full campaign
-    makes, so their statistics are those of its first runs.
+    makes, so their statistics are those of its first runs (2 runs that
+    agree bound the share of runs that would not only loosely: the
+    robustness statistics over runs need ``all_runs``).
 
     Returns {(device name, spec): [FitResult per run made]} in run order.
     """

@@ -15,7 +15,7 @@ from scipy.optimize import differential_evolution, minimize
 from .search import Evaluations, Search
 
 
-#: with ``stall``: a generation's best that improves by less than this share does not count
+#: with ``stall``: a generation's best that improves by less than this share does not count (default)
 STALL_GAIN = 1e-9
 
 
@@ -29,6 +29,7 @@ class DESettings:
     polish: bool = True
     polish_evals: int = 4000
     stall: int | None = None  # stop after this many generations without a better best
+    stall_gain: float = STALL_GAIN  # a best better by less than this share is not better (``stall``)
 
 
 def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESettings(), on_generation=None,
@@ -51,7 +52,7 @@ def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESetting
         history.append(float(intermediate_result.fun))
         if on_generation:
             on_generation(len(history), history[-1])
-        if s.stall and len(history) > s.stall and not history[-1] < history[-1 - s.stall] * (1.0 - STALL_GAIN):
+        if s.stall and len(history) > s.stall and not history[-1] < history[-1 - s.stall] * (1.0 - s.stall_gain):
             stalled.append(len(history))
             return True
         return False

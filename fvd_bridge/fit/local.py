@@ -45,9 +45,30 @@ from .search import Evaluations, Search
 from .trf import least_squares_soft_l1, strictly_inside
 
 
+#: two starts closer than this (unit-cube distance) are one
+DISTINCT = 0.15
+#: the soft-L1 loss's scale, as shares of the start's median |residual|:
+#: residuals above it count as in L1 (the last solve is L1 but for the noise's smallest)
+SCALE_SHARES = (0.05, 0.005, 0.0005)
+#: a start whose first (coarse) solve ends this close (unit-cube distance) to
+#: an earlier start's is in the same basin: it is not refined again
+SAME_BASIN = 0.02
+#: starts whose solves end further apart in OF than this share found two
+#: basins: the local search then checks globally (``search``)
+DOUBT = 0.01
+#: forward-difference step in the unit cube
+FD_STEP = 1e-6
+#: how close (a share of the OF) the search's end is to eq. 18's optimum: the
+#: last solve's soft-L1 loss differs from |r| by at most its scale c per
+#: residual, c = SCALE_SHARES[-1] of the start's median residual (from a
+#: start in the optimum's basin, a residual's size there), so the OF it ends
+#: on exceeds the L1 optimum's by about that share at most
+L1_TOLERANCE = SCALE_SHARES[-1]
 #: the global check after a local search: DE with population 8 per parameter,
-#: the local optimum among it, stopped after 20 generations without a better point
-CHECK = DESettings(popsize=8, polish=False, stall=20)
+#: the local optimum among it, stopped after 20 generations without a point
+#: better by more than L1_TOLERANCE (a gain that small is the local
+#: solve's to make: the check's best is solved locally again, ``_check``)
+CHECK = DESettings(popsize=8, polish=False, stall=20, stall_gain=L1_TOLERANCE)
 
 
 @dataclass(frozen=True)
@@ -69,25 +90,6 @@ class LocalSettings:
 
 #: the local search from a given start alone (no sample around it)
 FROM_START = LocalSettings(samples=1, starts=1)
-#: two starts closer than this (unit-cube distance) are one
-DISTINCT = 0.15
-#: the soft-L1 loss's scale, as shares of the start's median |residual|:
-#: residuals above it count as in L1 (the last solve is L1 but for the noise's smallest)
-SCALE_SHARES = (0.05, 0.005, 0.0005)
-#: a start whose first (coarse) solve ends this close (unit-cube distance) to
-#: an earlier start's is in the same basin: it is not refined again
-SAME_BASIN = 0.02
-#: starts whose solves end further apart in OF than this share found two
-#: basins: the local search then checks globally (``search``)
-DOUBT = 0.01
-#: forward-difference step in the unit cube
-FD_STEP = 1e-6
-#: how close (a share of the OF) the search's end is to eq. 18's optimum: the
-#: last solve's soft-L1 loss differs from |r| by at most its scale c per
-#: residual, c = SCALE_SHARES[-1] of the start's median residual (from a
-#: start in the optimum's basin, a residual's size there), so the OF it ends
-#: on exceeds the L1 optimum's by about that share at most
-L1_TOLERANCE = SCALE_SHARES[-1]
 
 
 def _starts(X: np.ndarray, of: np.ndarray, k: int, given: int = 0) -> list[int]:
