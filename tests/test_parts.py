@@ -64,6 +64,9 @@ def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_
     cal = Calibration.load(str(V3 / name))
     assert isinstance(cal.tests, tuple) and all(isinstance(t, TestFit) for t in cal.tests)
     assert isinstance(cal.runs, RunStats) and len(cal.runs.p_mean) == len(cal.values)
+    with pytest.raises(FrozenInstanceError):
+        cal.of = 0.0
+    assert replace(cal, device="other").device == "other" and cal.device != "other"
     again = Calibration.load(cal.save(str(tmp_path / name)))
     assert without_version((tmp_path / name).read_text()) == without_version((V3 / name).read_text())
     assert again.tests == cal.tests and again.runs == cal.runs and np.array_equal(again.values, cal.values)

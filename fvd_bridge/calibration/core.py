@@ -56,12 +56,13 @@ class FittedParameter:
         return f"<FittedParameter {self.text()}>"
 
 
-@dataclass
+@dataclass(frozen=True)
 class Calibration:
     """A calibrated model: the Model, its parameter vector (model order) with
     bounds, the OF, where the record came from, the settings and the fit
     warnings; ``tests``: a TestFit per test fitted, ``runs``: the RunStats
-    over the seeded runs (None: not recorded)."""
+    over the seeded runs (None: not recorded).  Frozen: a changed calibration
+    is ``dataclasses.replace(cal, ...)``."""
 
     model: object  # fvd_bridge.model.Model
     values: np.ndarray  # the parameters in model order [the model's units]
@@ -79,8 +80,9 @@ class Calibration:
 
     def __post_init__(self):
         """Tests given as the file's blocks become TestFits, run statistics given as a dict RunStats."""
-        self.tests = tuple(t if isinstance(t, TestFit) else TestFit.from_dict(t) for t in self.tests)
-        self.runs = RunStats.from_dict(self.runs)
+        object.__setattr__(self, "tests", tuple(t if isinstance(t, TestFit) else TestFit.from_dict(t)
+                                                for t in self.tests))
+        object.__setattr__(self, "runs", RunStats.from_dict(self.runs))
 
     def __repr__(self) -> str:
         return f"<Calibration {self.spec} of {self.device or self.record.get('name', '?')}: OF {self.of:.4g}>"
