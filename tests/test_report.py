@@ -253,3 +253,25 @@ def test_acceptance_checks_each_velocity_level_and_the_series_rule_needs_a_serie
     production = _rows(checks, "force at")[0]
     assert production.verdict == "not applicable" and "one device" in production.why_not
     assert _rows(checks_of_test(rec, nominal_force=200.0, series_size=2), "force at")[0].verdict == "FAIL"
+
+
+def test_a_parameter_fitted_per_test_shows_each_tests_value_and_interval():
+    """The calibration table names a per-test parameter's tests and gives
+    each its own value and 95% interval, as the file holds them."""
+    from pathlib import Path
+
+    import yaml
+
+    from fvd_bridge.calibration import Calibration
+    from fvd_bridge.report.html import parameter_rows
+
+    path = Path(__file__).parent / "fixtures" / "calibration_v3" / "device_per_test.yaml"
+    C = yaml.safe_load(path.read_text())["parameters"]["C"]
+    rows = {row[0]: row for row in parameter_rows(Calibration.load(path))}
+    (first, value0), (second, value1) = C["per_test"].items()
+    assert float(rows[f"C ({first})"][1]) == pytest.approx(value0, abs=C["stderr"])
+    assert float(rows[f"C ({second})"][1]) == pytest.approx(value1, abs=C["stderr"])
+    lo, hi = (float(x) for x in rows[f"C ({second})"][4].strip("[]").split(","))
+    assert lo == pytest.approx(C["per_test_ci95"][second][0], abs=C["stderr"])
+    assert hi == pytest.approx(C["per_test_ci95"][second][1], abs=C["stderr"])
+    assert "C" not in rows and "alpha" in rows

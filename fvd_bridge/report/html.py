@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from html import escape
 
+from ..calibration import schema
 from .numbers import cell, interval, rounded, small_share, with_unit
 
 #: a text cell longer than this many characters is a note: it may wrap
@@ -39,13 +40,20 @@ def short(x, digits: int = 4) -> str:
 
 def parameter_rows(cal) -> list:
     """Per parameter: name, value rounded to its stderr, unit, stderr, 95%
-    interval, search bounds; then the derived quantities."""
+    interval, search bounds; a parameter fitted per test, a row for each
+    further test (its value and interval there); then the derived quantities."""
     rows = []
     for p in cal.params.values():
         ci = "-" if p.ci95 is None else interval(p.ci95[0], p.ci95[1], p.stderr)
         bounds = "-" if None in p.bounds else interval(p.bounds[0], p.bounds[1])
-        rows.append([p.name, rounded(p.value, p.stderr), "" if p.unit == "-" else p.unit,
-                     rounded(p.stderr, digits=2), ci, bounds])
+        unit = "" if p.unit == "-" else p.unit
+        first = f" ({next(iter(p.per_test))})" if len(p.per_test) > 1 else ""
+        rows.append([p.name + first, rounded(p.value, p.stderr), unit, rounded(p.stderr, digits=2), ci, bounds])
+        per_test_ci = schema.interval_entry(cal, p.name).get("per_test_ci95") or {}
+        for test, value in list(p.per_test.items())[1:]:
+            lo_hi = per_test_ci.get(test)
+            rows.append([f"{p.name} ({test})", rounded(value, p.stderr), unit, "",
+                         "-" if lo_hi is None else interval(lo_hi[0], lo_hi[1], p.stderr), bounds])
     rows += [[name, rounded(value), unit, "", "", "(derived)"] for name, (value, unit) in cal.derived().items()]
     return rows
 
