@@ -126,7 +126,7 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     k = first_runs(cs)
     results: dict = {(rec.name, spec): [None] * cs.runs for rec in records for spec in cs.specs}
     bar = progress_bar(len(tasks), progress, unit="fit")
-    news = getattr(getattr(executor, "inner", executor), "news", None) if progress else None  # a Resumable's inner's
+    news = getattr(executor, "news", None) if progress else None  # a process pool's (campaign.news)
     try:
         with Listener(news, bar.set_postfix_str) if news is not None else nullcontext():
             _run_waves(executor, tasks, records, cs, results, bar, k)
