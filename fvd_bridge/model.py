@@ -128,6 +128,11 @@ class Model:
         leave: the default optimizer searches it with DE."""
         return self.law.global_search or any(e.global_search for e in self.effects)
 
+    @property
+    def stepped(self) -> list[str]:
+        """Names of the parameters on which the OF moves in steps (``Effect.stepped``)."""
+        return [f"{e.name}.{p}" for e in self.effects for p in e.stepped]
+
     def without_effect(self, effect_name: str) -> "Model":
         """This model without the named effect (the nested model).
 

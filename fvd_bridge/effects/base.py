@@ -101,6 +101,11 @@ class Effect:
     ``global_search``: a model with it has basins a local solve does not
     always leave (the gap's dead zone), so the default optimizer checks its
     local optimum with DE (``LocalSettings.always_check``);
+    ``stepped``: its parameters on which the OF moves in steps, flat
+    between them (a gap's clearance g: a contact that closes moves its
+    force jump across a sample at once), so a least-squares step sees no
+    slope there and the local search searches them along a line
+    (``fit.local``);
     ``offset_like``: its force can shift the loop as a load cell's zero
     does (a term that does not vanish at d = 0, v = 0, or whose mean over a
     cycle is not zero), so diagnose credits it only where it helps beyond
@@ -129,6 +134,7 @@ class Effect:
     fmu: bool = False
     arrangement_of: str = ""
     global_search: bool = False
+    stepped: tuple = ()
     offset_like: bool = False
     source_sha256: str = ""
 

@@ -181,7 +181,7 @@ BUILTIN = (
         symptom="force stays near zero just after each reversal (a plateau in the loop)",
         cause="the connection has clearance (play)",
         cause_hysteretic="the connection has play: no force passes while the pin crosses its clearance",
-        size=sizes.gap, reference=(1.0,), fmu=True, global_search=True,  # the dead zone: local solves stop short
+        size=sizes.gap, reference=(1.0,), fmu=True, global_search=True, stepped=("g",),  # the dead zone: local solves stop short
         no_opensees="the pin gap (a contact gap in series with the law: no force in the clearance)"),
     SERIES_STIFFNESS,
     replace(

@@ -23,7 +23,16 @@
    benchmarks/bench_fit_speed.py).  A start whose coarse solve reaches
    where an earlier one's ended (SAME_BASIN) is stopped there (the solver's
    callback) and not refined again.
-3. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
+3. A parameter on which the OF moves in steps (``stepped``: a gap's
+   clearance, ``Effect.stepped``) has no slope a least-squares step can
+   follow: it is searched along a line (LINE_POINTS points, one batch, on
+   a span from the whole cube shrinking LINE_SHRINK-fold to LINE_END), the
+   others held, then the least squares run again from there, until a round
+   gains less than L1_TOLERANCE (``_settle``).  On a 27 s earthquake test
+   of a gapped orifice, 4 of 20 seeds ended 2-66% above the best OF before
+   (the clearance 0.18 mm short); a line round from the worst end reaches
+   it to 0.06% (benchmarks/bench_earthquake_test.py).
+4. Optionally (``polish_evals``) Nelder-Mead on eq. 18 itself.
 
 The best end is kept, never worse than the caller's start.  The global
 check (``_check``, settings ``search``) is DE (``fit.de``) with the local
@@ -69,6 +78,13 @@ L1_TOLERANCE = SCALE_SHARES[-1]
 #: better by more than L1_TOLERANCE (a gain that small is the local
 #: solve's to make: the check's best is solved locally again, ``_check``)
 CHECK = DESettings(popsize=8, polish=False, stall=20, stall_gain=L1_TOLERANCE)
+#: the line search over a stepped parameter: points per batch, the span's
+#: shrink from one batch to the next (from the whole cube), the last span
+LINE_POINTS = 17
+LINE_SHRINK = 4.0
+LINE_END = 10 * FD_STEP
+#: rounds of line searches and least squares at most
+SETTLE_ROUNDS = 5
 
 
 @dataclass(frozen=True)
@@ -111,15 +127,65 @@ def _starts(X: np.ndarray, of: np.ndarray, k: int, given: int = 0) -> list[int]:
 
 
 def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSettings = LocalSettings(),
-              on_generation=None, x0: np.ndarray | None = None) -> Search:
+              on_generation=None, x0: np.ndarray | None = None, stepped=()) -> Search:
     """Minimise eq. 18 over [0, 1]^n: ``evaluate(X) -> OF`` (pop,), and
     ``residuals(X) -> R`` (pop, m) with sum |R| = OF; the result is never
-    worse than ``x0``'s (one point, or (k, n): the local search solves from each)."""
+    worse than ``x0``'s (one point, or (k, n): the local search solves from
+    each).  ``stepped``: indices of the coordinates on which the OF moves
+    in steps (searched along lines, ``_settle``)."""
     found, ends = _local(evaluate, residuals, n, rng, s, on_generation, x0)
+    found = _settle(evaluate, residuals, n, rng, found, stepped, on_generation)
     two_basins = len(ends) > 1 and max(ends) > min(ends) * (1.0 + DOUBT)  # there may be a third, lower
     if s.always_check or two_basins:
-        found = found.then(_check(evaluate, residuals, n, rng, s.search, on_generation, found.x, found.of))
+        found = found.then(_check(evaluate, residuals, n, rng, s.search, on_generation, found.x, found.of,
+                                  stepped))
     return found
+
+
+def _settle(evaluate, residuals, n, rng, found: Search, stepped, on_generation=None) -> Search:
+    """From ``found``'s end: each stepped coordinate searched along its line
+    (``line_search``), then the least squares from there (FROM_START), round after
+    round until one gains less than L1_TOLERANCE (SETTLE_ROUNDS at most)."""
+    if not len(stepped):
+        return found
+    for _ in range(SETTLE_ROUNDS):
+        count = Evaluations()
+        x, f = found.x, found.of
+        for j in stepped:
+            x, f = line_search(evaluate, x, f, j, count)
+        if f < found.of:
+            moved = Search(x, f, (f,), count.n, "line search")
+            moved = moved.then(_local(evaluate, residuals, n, rng, FROM_START, None, x)[0])
+        else:
+            moved = Search(x, f, (), count.n, found.stop)
+        gain = found.of - moved.of
+        found = found.then(moved)
+        if on_generation:
+            on_generation(len(found.history), found.of)
+        if not gain > L1_TOLERANCE * found.of:
+            break
+    return found
+
+
+def line_search(evaluate, x: np.ndarray, f: float, j: int, count: Evaluations, lower: float = 0.0,
+                upper: float = 1.0, span: float = 1.0):
+    """(x, OF): the best point along coordinate j from x (OF f): LINE_POINTS
+    points, one batch, on a span around the best so far, from ``span`` of
+    the range [lower, upper] (the unit cube's; 1: the whole range)
+    shrinking LINE_SHRINK-fold to LINE_END of it (a best on the span's edge
+    keeps the span: the search walks on); the others held."""
+    while span >= LINE_END:
+        X = np.repeat(x[None, :], LINE_POINTS, axis=0)
+        X[:, j] = np.clip(x[j] + span * (upper - lower) * np.linspace(-1.0, 1.0, LINE_POINTS), lower, upper)
+        of = evaluate(X)
+        count.add(LINE_POINTS)
+        i = int(np.argmin(of))
+        if of[i] < f:
+            x, f = X[i], float(of[i])
+            if i in (0, LINE_POINTS - 1):
+                continue
+        span /= LINE_SHRINK
+    return x, f
 
 
 def _local(evaluate, residuals, n, rng, s, on_generation, x0):
@@ -205,13 +271,14 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     return Search(best_x, best_of, tuple(history), count.n, stop), ends
 
 
-def _check(evaluate, residuals, n, rng, s: DESettings, on_generation, x, f) -> Search:
+def _check(evaluate, residuals, n, rng, s: DESettings, on_generation, x, f, stepped=()) -> Search:
     """The global check of a local optimum x (OF f): DE seeded with it,
     stopped when nothing better appears; a better point found there is
-    solved locally again."""
+    solved locally again (and along the stepped coordinates' lines)."""
     found = run_de(evaluate, n, rng, s, on_generation, x)
     if found.of < f:
         found = found.then(_local(evaluate, residuals, n, rng, FROM_START, None, found.x)[0])
+        found = _settle(evaluate, residuals, n, rng, found, stepped)
     return found
 
 
