@@ -70,6 +70,7 @@ def main() -> None:
     if not os.path.exists(os.path.join(SHARED, RECORD)):
         sys.exit(f"skipped: {RECORD} is not in {SHARED}")
     root = args.keep or tempfile.mkdtemp(prefix="fvd_eq_")
+    os.makedirs(root, exist_ok=True)
     command_history(os.path.join(root, "command.csv"))
     timed(["rig", "--out", os.path.join(root, "rec"), "--protocol", f"history:{root}/command.csv",
            "--C", "45.4", "--alpha", "0.3", "--Kp", "2", "--gap", "2", "--noise", "1", "--dt", str(DT)])

@@ -1,6 +1,7 @@
-"""The one calibration engine: ``fvd-bridge calibrate`` and ``fb.calibrate``
-both run their fits, the runs' statistics, the intervals and the
-Calibration here, so they give the same numbers by construction."""
+"""The one calibration engine: ``fvd-bridge calibrate``, ``fvd-bridge
+campaign`` and ``fb.calibrate`` all run their fits and intervals here
+(and the first and last the Calibration), so they give the same numbers
+by construction."""
 
 from __future__ import annotations
 
@@ -11,12 +12,15 @@ from .outputs import calibration, summarize
 from .runner import CampaignSettings, book_fit_times, run_campaign, run_intervals
 
 
-def run_calibrations(records, cs: CampaignSettings, executor=None, progress: bool = True) -> tuple[dict, dict]:
+def run_calibrations(records, cs: CampaignSettings, executor=None, progress: bool = True,
+                     fits_executor=None) -> tuple[dict, dict]:
     """(runs, intervals) of every (device, model) of ``cs``: the runs
     (``run_campaign``: {(device, spec): [FitResult]}) and the best run's
-    intervals (``run_intervals``: {(device, spec): Intervals})."""
+    intervals (``run_intervals``: {(device, spec): Intervals}).
+    ``fits_executor``: runs the fits instead of ``executor`` and shows its
+    own progress (a campaign's ``Resumable``: fits read back from its store)."""
     with timing.stage("fits"):
-        results = run_campaign(records, cs, progress, executor)
+        results = run_campaign(records, cs, progress and fits_executor is None, fits_executor or executor)
     book_fit_times(results)
     with timing.stage("intervals"):
         intervals = run_intervals(records, results, cs, executor, progress)

@@ -40,7 +40,7 @@ from ..campaign.executors import Dask, Processes
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report, format_series
 from ..campaign.resume import Resumable
-from ..campaign.runner import run_campaign, run_intervals
+from ..campaign.engine import run_calibrations
 from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spec
 from ..campaign.stats import OUTLIER_K
 from ..campaign.store import UnitStore
@@ -207,8 +207,8 @@ def run(args) -> int:
             print(f"campaign: {len(records)} device(s) x {len(cs.specs)} model(s) x {cs.runs} run(s), optimizer "
                   f"{cs.optimizer}, bounds {cs.bounds}; executor {where}", file=sys.stderr)
             resumable = Resumable(executor, store, progress=not args.quiet)
-            results = run_campaign(records, cs, progress=False, executor=resumable)
-            intervals = run_intervals(records, results, cs, executor, progress=not args.quiet)
+            results, intervals = run_calibrations(records, cs, executor, progress=not args.quiet,
+                                                  fits_executor=resumable)
             figures = not p["args"].no_figures
             made = {}
 
