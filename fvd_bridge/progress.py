@@ -34,7 +34,7 @@ class LogProgress:
 
     def __init__(self, total: int, unit: str, desc: str, initial: int, stream):
         self.total, self.unit, self.desc, self.n, self.stream = total, unit, desc, initial, stream
-        self.text = self.postfix = ""
+        self.text = self.postfix = self.said = ""
         self.t0 = self.last = time.monotonic()
 
     def set_description(self, text: str, refresh: bool = True) -> None:
@@ -58,8 +58,11 @@ class LogProgress:
         self._line()
 
     def _line(self) -> None:
+        """The state as a line, unless the last line said it already (a close right after an update)."""
         self.last = time.monotonic()
         head = f"{self.desc}: " if self.desc else ""
         tail = "".join(f" | {x}" for x in (self.text, self.postfix) if x)
-        print(f"{head}{self.n}/{self.total} {self.unit}s, {self.last - self.t0:.0f} s{tail}", file=self.stream,
-              flush=True)
+        line = f"{head}{self.n}/{self.total} {self.unit}s, {self.last - self.t0:.0f} s{tail}"
+        if line != self.said:
+            print(line, file=self.stream, flush=True)
+            self.said = line
