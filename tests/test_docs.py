@@ -5,6 +5,7 @@ name has a docstring, the entry points document every parameter
 from __future__ import annotations
 
 import inspect
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -97,3 +98,25 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
         assert name in api
     index = (tmp_path / "site" / "index.html").read_text()
     assert "fonts.googleapis" not in index  # readable offline
+
+
+def glued_lists(text: str) -> list[int]:
+    """Line numbers of list items glued to the paragraph above them (no
+    blank line between, outside code): the site's Markdown then prints the
+    list as running text."""
+    out, prev, code = [], "", False
+    for k, line in enumerate(text.splitlines(), 1):
+        if line.startswith("```"):
+            code = not code
+        item = re.match(r"([-*]|\d+\.) ", line)
+        if item and not code and prev.strip() and not re.match(r"\s*([-*]|\d+\.) |\s", prev):
+            out.append(k)
+        prev = line
+    return out
+
+
+def test_glued_lists_are_found_and_no_page_has_one():
+    assert glued_lists("**Optimizers.**\n- `ga`: the GA\n- `de`\n\ntext\n\n- item\n") == [2]
+    pages = sorted((REPO / "docs").rglob("*.md"))
+    glued = {str(p.relative_to(REPO)): glued_lists(p.read_text()) for p in pages}
+    assert pages and not {p: lines for p, lines in glued.items() if lines}
