@@ -92,6 +92,31 @@ def test_intervals_cover_the_truth_in_17_of_20_ramped_records(tmp_path):
     assert np.all(np.abs(errors.mean(axis=0)) < 1.0), errors.mean(axis=0)
 
 
+@pytest.mark.slow
+def test_a_gaps_interval_covers_its_clearance_on_acceptance_records(tmp_path):
+    """The clearance g moves the OF in flat steps, so the replicates search
+    it along its line (``fit.intervals``); on 10 noise seeds of an orifice
+    with a 1 mm gap under the acceptance protocol (records unlike the
+    earthquake test the line search was shaped on) the 95% intervals of g,
+    C and alpha cover the truth in at least 8 of 10 (10 of 10 each when
+    written), every estimate inside its interval."""
+    from fvd_bridge.rig import acceptance
+
+    truth = {"C": 20.0, "alpha": 0.5, "gap.g": 1.0}
+    model = catalog().model("2+gap")
+    hits = dict.fromkeys(truth, 0)
+    for s in range(10):
+        rec = lab_record(Device(C=20.0, alpha=0.5, gap=1.0), acceptance(cycles=2), 1.0, 0.01, seed=200 + s,
+                         tmp_path=tmp_path, name=f"gap{s}")
+        fit = fit_model(model, rec, seed=0)
+        iv = intervals(model, rec, fit.params, bounds=fit.bounds, seed=s)
+        assert np.all((iv.ci95[:, 0] < fit.params) & (fit.params < iv.ci95[:, 1]))
+        for name, value in truth.items():
+            lo, hi = iv.ci95[model.names.index(name)]
+            hits[name] += bool(lo <= value <= hi)
+    assert min(hits.values()) >= 8, hits
+
+
 def test_rests_take_no_force_from_the_velocity_noise(tmp_path):
     """The rests of a ramped record (0.5 s before and after) are found and
     get a velocity of 0, and law 2's fit on it is within its scatter of the
