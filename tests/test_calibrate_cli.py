@@ -187,9 +187,9 @@ def test_window_keeps_part_of_the_record(two_devices, tmp_path):
                      "--out", str(out), "--quiet"])
     assert res.returncode == 0, res.stderr
     cal = Calibration.load(str(out / "params" / "dev_a" / "law2.yaml"))
-    assert cal.record["window"] == [1.0, 4.0]
+    assert cal.record.window == [1.0, 4.0]
     part = window(read_record(two_devices[0]), "1,4")
-    assert part.t[0] >= 1.0 and part.t[-1] <= 4.0 and cal.record["samples"] == part.n
+    assert part.t[0] >= 1.0 and part.t[-1] <= 4.0 and cal.record.samples == part.n
     # eq. 18 on the window, computed here: integral |F - F_model| dt / (sigma_F (t1 - t0))
     err = np.trapezoid(np.abs(part.F - cal.force(part)), part.t) / (np.std(part.F) * (part.t[-1] - part.t[0]))
     assert cal.of == pytest.approx(float(err), rel=1e-6)

@@ -146,7 +146,7 @@ def test_flipped_force_calibrates_as_the_original(files):
     for name in ("flipped", "negated"):
         np.testing.assert_allclose(cals[name].values, cals["fvd"].values, rtol=1e-9)
         assert cals[name].of == pytest.approx(cals["fvd"].of, rel=1e-9)
-    assert cals["negated"].record["reading"] == {"force_sign": "flip"}
+    assert cals["negated"].record.reading == {"force_sign": "flip"}
 
 
 def test_keep_says_the_sign_is_right(files):

@@ -1,6 +1,7 @@
 """The typed parts between the stages: a fit is frozen, a calibration's
-tests and run statistics are frozen records, and the calibration file keeps
-its shape (files written before the parts were typed load and save unchanged)."""
+tests, record sources and run statistics are frozen records, and the
+calibration file keeps its shape (files written before the parts were typed
+load and save unchanged)."""
 
 from dataclasses import FrozenInstanceError, replace
 from pathlib import Path
@@ -11,7 +12,7 @@ import yaml
 
 import fvd_bridge as fb
 from fvd_bridge.calibration import Calibration
-from fvd_bridge.calibration.parts import RunStats, TestFit
+from fvd_bridge.calibration import Peaks, RecordSource, RunStats, TestFit
 from fvd_bridge.campaign.store import result_from_dict, result_to_dict
 from fvd_bridge.catalog import catalog
 from fvd_bridge.errors import InputError
@@ -19,13 +20,18 @@ from fvd_bridge.fit import fit_model
 from fvd_bridge.records.device import tested_range as peaks_of
 from fvd_bridge.rig import Device, Noise, paper, simulate
 
-V3 = Path(__file__).resolve().parent / "fixtures" / "calibration_v3"
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+V3 = FIXTURES / "calibration_v3"
 
 
 @pytest.fixture(scope="module")
-def law2_fit():
-    rec = simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
-    return fit_model(catalog().model("2"), rec, seed=0)
+def law2_record():
+    return simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
+
+
+@pytest.fixture(scope="module")
+def law2_fit(law2_record):
+    return fit_model(catalog().model("2"), law2_record, seed=0)
 
 
 def test_a_fit_is_frozen_and_replace_gives_a_changed_copy(law2_fit):
@@ -64,6 +70,7 @@ def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_
     cal = Calibration.load(str(V3 / name))
     assert isinstance(cal.tests, tuple) and all(isinstance(t, TestFit) for t in cal.tests)
     assert isinstance(cal.runs, RunStats) and len(cal.runs.p_mean) == len(cal.values)
+    assert isinstance(cal.record, RecordSource) and all(isinstance(t.record, RecordSource) for t in cal.tests)
     with pytest.raises(FrozenInstanceError):
         cal.of = 0.0
     assert replace(cal, device="other").device == "other" and cal.device != "other"
@@ -86,7 +93,7 @@ def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before
     # each test's OF is eq. 18 of the model with that test's parameters on it
     for test, rec in zip(cal.tests, (slow, fast)):
         assert test.of == pytest.approx(cal.of_on(rec), rel=1e-12) and set(test.parameters) == {"C"}
-        assert test.record["samples"] == rec.n and test.range == peaks_of(rec)
+        assert test.record.samples == rec.n and test.range == peaks_of(rec)
     assert cal.params["C"].per_test == {t.name: t.parameters["C"] for t in cal.tests}
     # the run statistics hold the model's parameters only (not the per-test column)
     assert len(cal.runs.p_mean) == len(cal.runs.p_sigma) == 3 and cal.runs.of_mean >= cal.of
@@ -112,3 +119,39 @@ def test_run_statistics_from_a_dict_and_without_runs(law2_fit):
     assert kept.runs == RunStats(0.2, 0.01, (45.0, 0.3), (1.0, 0.0))
     with pytest.raises(InputError, match="of_mean, of_sigma"):
         RunStats.from_dict({"of_mean": 0.2, "of_sd": 0.01})
+
+
+# ------------------------------------------------- the record's source
+def test_a_record_source_round_trips_through_its_file_block():
+    block = yaml.safe_load((V3 / "law8_one_test.yaml").read_text())["record"]
+    source = RecordSource.from_dict(block)
+    assert source.name == "sn7_slow" and source.samples == 854 and source.dt == 0.002 and source.file is None
+    assert source.velocity == {"method": "exact (rig protocol)"} and source.peaks.F == block["peaks"]["F"]
+    assert source.as_dict() == block and list(source.as_dict()) == list(block)
+    assert RecordSource.from_dict(source.as_dict()) == source
+    with pytest.raises(FrozenInstanceError):
+        source.peaks.F = 0.0
+    assert RecordSource.from_dict(None) == RecordSource.from_dict({}) == RecordSource()
+    assert RecordSource().peaks == Peaks() and not hasattr(RecordSource(), "get")
+
+
+def test_a_fitted_calibration_keeps_its_records_own_peaks(law2_record, law2_fit):
+    rec = law2_record
+    cal = Calibration.from_fit(catalog().model("2"), law2_fit, rec)
+    assert isinstance(cal.record, RecordSource) and cal.record == cal.tests[0].record
+    assert cal.record.peaks.F == float(np.max(np.abs(rec.F))) and cal.record.samples == rec.n
+    assert cal.record.name == rec.name and cal.record.dt == rec.dt
+    assert cal.to_dict()["record"]["peaks"]["F"] == cal.record.peaks.F
+
+
+def test_a_file_without_some_record_keys_loads(tmp_path):
+    """A schema 1 file keeps no format, columns, units, reading or peaks; an unknown key is left out."""
+    raw = yaml.safe_load((FIXTURES / "calibration_v1" / "law8.yaml").read_text())
+    raw["record"]["rig_operator"] = "someone"
+    (tmp_path / "old.yaml").write_text(yaml.safe_dump(raw, sort_keys=False))
+    cal = Calibration.load(str(tmp_path / "old.yaml"))
+    assert cal.record.name == "device_01" and cal.record.file == "device_01.csv" and cal.record.samples == 2865
+    assert cal.record.columns is None and cal.record.source_units is None and cal.record.peaks == Peaks()
+    assert cal.tests[0].record == cal.record and cal.tests[0].range == {"d": None, "v": None}
+    assert cal.tested["F"] is None and "device_01" in cal.report()
+    assert "rig_operator" not in cal.to_dict()["record"]

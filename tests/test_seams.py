@@ -70,7 +70,7 @@ def test_schema_1_files_still_read(name, spec):
     raw = yaml.safe_load(open(FIXTURES / "calibration_v1" / name))
     assert raw["schema_version"] == 1 and cal.spec == spec
     assert cal.named() == {k: v["value"] for k, v in raw["parameters"].items()}
-    assert cal.of == raw["of"] and cal.record["columns"] is None
+    assert cal.of == raw["of"] and cal.record.columns is None
     if spec == "8":
         p = cal.named()
         assert cal.derived()["mu*N"][0] == pytest.approx(p["mu"] * p["N"], rel=1e-15)
@@ -87,9 +87,9 @@ def test_calibration_keeps_provenance_and_round_trips(lab_csv, tmp_path):
     path = cal.save(str(tmp_path / "out" / "law8.yaml"))
     back = Calibration.load(path)
     assert back.named() == cal.named() and back.of == cal.of and back.spec == "8"
-    assert back.record["source_units"] == {"t": "ms", "d": "m", "F": "N"}
-    assert back.record["columns"] == {"t": "time", "d": "disp", "F": "load"}
-    assert back.record["velocity"]["method"] == "savgol" and back.record["samples"] == rec.n
+    assert back.record.source_units == {"t": "ms", "d": "m", "F": "N"}
+    assert back.record.columns == {"t": "time", "d": "disp", "F": "load"}
+    assert back.record.velocity["method"] == "savgol" and back.record.samples == rec.n
     raw = yaml.safe_load(open(path))
     assert raw["schema_version"] == 3 and raw["derived"]["mu*N"]["unit"] == "kN"
     assert raw["derived"]["mu*N"]["value"] == pytest.approx(cal.named()["mu"] * cal.named()["N"])

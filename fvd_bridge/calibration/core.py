@@ -17,7 +17,7 @@ from ..io.staging import atomic_file
 from ..records.device import as_device, tested_range
 from . import schema, tested as tested_mod, text
 from ..io.staging import num
-from .parts import RunStats, TestFit
+from .parts import RecordSource, RunStats, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
 from .text import REPORTED_CORRELATION
@@ -59,16 +59,16 @@ class FittedParameter:
 @dataclass(frozen=True)
 class Calibration:
     """A calibrated model: the Model, its parameter vector (model order) with
-    bounds, the OF, where the record came from, the settings and the fit
-    warnings; ``tests``: a TestFit per test fitted, ``runs``: the RunStats
-    over the seeded runs (None: not recorded).  Frozen: a changed calibration
-    is ``dataclasses.replace(cal, ...)``."""
+    bounds, the OF, where the record came from (its RecordSource), the
+    settings and the fit warnings; ``tests``: a TestFit per test fitted,
+    ``runs``: the RunStats over the seeded runs (None: not recorded).
+    Frozen: a changed calibration is ``dataclasses.replace(cal, ...)``."""
 
     model: object  # fvd_bridge.model.Model
     values: np.ndarray  # the parameters in model order [the model's units]
     of: float
     bounds: np.ndarray | None = None
-    record: dict = field(default_factory=dict)
+    record: RecordSource = RecordSource()  # the (first) test's record: file, samples, dt [s], peaks, ...
     settings: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
     runs: RunStats | None = None  # of_mean, of_sigma, p_mean, p_sigma over runs (None: no runs recorded)
@@ -79,13 +79,16 @@ class Calibration:
     records: list = field(default_factory=list, repr=False, compare=False)  # the Records fitted (not saved)
 
     def __post_init__(self):
-        """Tests given as the file's blocks become TestFits, run statistics given as a dict RunStats."""
+        """Tests given as the file's blocks become TestFits, a record given as
+        its block a RecordSource, run statistics given as a dict RunStats."""
         object.__setattr__(self, "tests", tuple(t if isinstance(t, TestFit) else TestFit.from_dict(t)
                                                 for t in self.tests))
+        if not isinstance(self.record, RecordSource):
+            object.__setattr__(self, "record", RecordSource.from_dict(self.record))
         object.__setattr__(self, "runs", RunStats.from_dict(self.runs))
 
     def __repr__(self) -> str:
-        return f"<Calibration {self.spec} of {self.device or self.record.get('name', '?')}: OF {self.of:.4g}>"
+        return f"<Calibration {self.spec} of {self.device or self.record.name or '?'}: OF {self.of:.4g}>"
 
     @property
     def params(self) -> dict:

@@ -1,10 +1,11 @@
 """The parts of a calibration's result, as small frozen records: ``TestFit``
-(one test it was fitted on) and ``RunStats`` (the statistics over its
-seeded runs).  ``schema`` writes and reads them as the file's blocks."""
+(one test it was fitted on), ``RecordSource`` (where a test's record came
+from and how it was read) and ``RunStats`` (the statistics over its seeded
+runs).  ``schema`` writes and reads them as the file's blocks."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 from ..errors import InputError
 
@@ -13,10 +14,66 @@ TEST_KEYS = ("name", "weight", "of", "range", "record", "parameters")
 
 
 @dataclass(frozen=True)
+class Peaks:
+    """A record's peak magnitudes: force ``F`` [kN], velocity ``v`` [mm/s],
+    stroke ``d`` [mm] (about its median); None: not recorded."""
+
+    F: float | None = None
+    v: float | None = None
+    d: float | None = None
+
+    @classmethod
+    def from_dict(cls, block: dict | None) -> "Peaks":
+        """Peaks from the file's {F, v, d} (missing keys: None)."""
+        block = block or {}
+        return cls(*(block.get(f.name) for f in fields(cls)))
+
+    def as_dict(self) -> dict:
+        """The file's block: {F, v, d}."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class RecordSource:
+    """Where a calibration's record came from and how it was read (the
+    file's 'record' block): its ``name``; its ``file`` and ``format``; its
+    ``samples`` and time step ``dt`` [s]; the ``columns`` {t, d, F[, v]}
+    read, the time ``window`` (t0, t1 [s]) kept, the ``source_units``
+    {t, d, F[, v]} converted from, the ``reading`` options given, the
+    ``velocity`` derivation {method, ...}; its ``peaks`` (F [kN], v [mm/s],
+    d [mm]).  None (and "", Peaks()): not recorded."""
+
+    name: str = ""
+    file: str | None = None
+    format: str | None = None
+    samples: int | None = None
+    dt: float | None = None
+    columns: dict | None = None
+    window: list | None = None
+    source_units: dict | None = None
+    reading: dict | None = None
+    velocity: dict | None = None
+    peaks: Peaks = Peaks()
+
+    @classmethod
+    def from_dict(cls, block: dict | None) -> "RecordSource":
+        """A record's source from its file block (missing keys take the
+        defaults, keys of no field are left out; None or {}: ``RecordSource()``)."""
+        block = block or {}
+        given = {f.name: block[f.name] for f in fields(cls) if f.name in block and f.name != "peaks"}
+        return cls(**given, peaks=Peaks.from_dict(block.get("peaks")))
+
+    def as_dict(self) -> dict:
+        """The file's block: {name, file, format, samples, dt, columns, window,
+        source_units, reading, velocity, peaks: {F, v, d}}."""
+        return {**{f.name: getattr(self, f.name) for f in fields(self)}, "peaks": self.peaks.as_dict()}
+
+
+@dataclass(frozen=True)
 class TestFit:
     """One test of a calibration: its ``name``; its ``weight`` in the OF; its
     ``of`` (eq. 18; None: not recorded); its peak ``range`` {d [mm], v [mm/s],
-    f [Hz]}; its ``record`` block (the file's 'record' provenance: file,
+    f [Hz]}; its ``record``: the RecordSource of its record (file,
     samples, dt [s], peaks, ...); its ``parameters`` fitted per test
     {name: value [the model's units]} ({}: all shared)."""
 
@@ -26,19 +83,19 @@ class TestFit:
     weight: float = 1.0
     of: float | None = None
     range: dict = field(default_factory=dict)
-    record: dict = field(default_factory=dict)
+    record: RecordSource = RecordSource()
     parameters: dict = field(default_factory=dict)
 
     @classmethod
     def from_dict(cls, block: dict) -> "TestFit":
         """A test from its file block (missing keys take the defaults)."""
         return cls(name=block["name"], weight=float(block.get("weight", 1.0)), of=block.get("of"),
-                   range=dict(block.get("range") or {}), record=dict(block.get("record") or {}),
+                   range=dict(block.get("range") or {}), record=RecordSource.from_dict(block.get("record")),
                    parameters=dict(block.get("parameters") or {}))
 
     def as_dict(self) -> dict:
         """The file's block: {name, weight, of, range, record, parameters}."""
-        return {key: getattr(self, key) for key in TEST_KEYS}
+        return {**{key: getattr(self, key) for key in TEST_KEYS}, "record": self.record.as_dict()}
 
 
 @dataclass(frozen=True)

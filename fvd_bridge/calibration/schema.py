@@ -48,7 +48,7 @@ from ..catalog import catalog_for, plugin_files, recorded_plugins
 from ..errors import InputError
 from ..fit.layout import SEP
 from ..io.staging import plain
-from .parts import RunStats, TestFit
+from .parts import Peaks, RecordSource, RunStats, TestFit
 
 SCHEMA_VERSION = 3
 READABLE_SCHEMAS = (1, 2, 3)
@@ -86,10 +86,10 @@ def to_dict(cal) -> dict:
         "of": float(cal.of),
         "of_mean_over_runs": float(runs.of_mean),
         "of_sigma_over_runs": float(runs.of_sigma),
-        "device": cal.device or cal.record.get("name"),
+        "device": cal.device or cal.record.name,
         "tests": plain([t.as_dict() for t in cal.tests]),
         "tested_range": plain(cal.tested),
-        "record": plain(cal.record),
+        "record": plain(cal.record.as_dict()),
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
         "warnings": [str(w) for w in cal.warnings],
     }
@@ -128,32 +128,34 @@ def read(path: str, catalog=None, plugins=()) -> dict:
         raise InputError(f"{path}: key 'model': {exc}") from None
     values, bounds, means, sigmas = _parameters(path, data.get("parameters"), model)
     of = _number(path, "of", data.get("of"))
-    record = dict(data.get("record") or {})
-    if data["schema_version"] == 1:  # v1 kept no column mapping or source units
-        record.setdefault("columns", None)
-        record.setdefault("source_units", None)
+    record = RecordSource.from_dict(data.get("record"))  # v1 kept no format, columns, units, reading or peaks
     runs = RunStats(_number(path, "of_mean_over_runs", data.get("of_mean_over_runs", of)),
                     _number(path, "of_sigma_over_runs", data.get("of_sigma_over_runs", 0.0)),
                     tuple(map(float, means)), tuple(map(float, sigmas)))
-    tests = data.get("tests") or [{"name": record.get("name"), "weight": 1.0, "of": of, "record": record,
-                                   "range": {k: (record.get("peaks") or {}).get(k) for k in ("d", "v")},
-                                   "parameters": {}}]
-    if not isinstance(tests, list) or not all(isinstance(t, dict) and "name" in t for t in tests):
-        raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
     return {"model": model, "values": values, "of": of, "bounds": bounds, "record": record,
             "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
-            "path": os.path.abspath(path), "tests": tuple(TestFit.from_dict(t) for t in tests),
-            "device": str(data.get("device") or record.get("name") or ""), "intervals": _intervals(data)}
+            "path": os.path.abspath(path), "tests": _tests(path, data.get("tests"), record, of),
+            "device": str(data.get("device") or record.name or ""), "intervals": _intervals(data)}
 
 
-def record_provenance(record) -> dict:
-    """The calibration file's 'record' block from a Record's provenance."""
+def _tests(path: str, given, record: RecordSource, of: float) -> tuple:
+    """The file's tests as TestFits; a file without tests (schema 1) has
+    one, its record's, with the record's peak stroke [mm] and velocity [mm/s]."""
+    if not given:
+        return (TestFit(record.name, 1.0, of, {"d": record.peaks.d, "v": record.peaks.v}, record),)
+    if not isinstance(given, list) or not all(isinstance(t, dict) and "name" in t for t in given):
+        raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
+    return tuple(TestFit.from_dict(t) for t in given)
+
+
+def record_provenance(record) -> RecordSource:
+    """The RecordSource of a Record (the calibration file's 'record' block), from its provenance."""
     prov = record.provenance
     scales = record.scales()
-    return {"name": record.name, "file": prov.get("file"), "format": prov.get("format"),
-            "samples": record.n, "dt": record.dt, "columns": prov.get("columns"), "window": prov.get("window"),
-            "source_units": prov.get("units"), "reading": prov.get("reading"), "velocity": prov.get("velocity"),
-            "peaks": {"F": scales["F"], "v": scales["v"], "d": scales["d"]}}
+    return RecordSource(name=record.name, file=prov.get("file"), format=prov.get("format"), samples=record.n,
+                        dt=record.dt, columns=prov.get("columns"), window=prov.get("window"),
+                        source_units=prov.get("units"), reading=prov.get("reading"), velocity=prov.get("velocity"),
+                        peaks=Peaks(scales["F"], scales["v"], scales["d"]))
 
 
 def _intervals(data: dict) -> dict:

@@ -14,10 +14,9 @@ def tested(cal) -> dict:
     """The tested range: peak stroke d [mm], velocity v [mm/s], force F [kN]
     over every test, and the tests' frequencies f = (lowest, highest) in Hz (None: unknown)."""
     ranges = [t.range for t in cal.tests]
-    peaks = (cal.record or {}).get("peaks") or {}
-    out = {k: max([r[k] for r in ranges if r.get(k)] + [peaks.get(k) or 0.0]) or None for k in ("d", "v")}
-    out["F"] = max([(t.record.get("peaks") or {}).get("F") or 0.0 for t in cal.tests]
-                   + [peaks.get("F") or 0.0]) or None
+    peaks = cal.record.peaks
+    out = {k: max([r[k] for r in ranges if r.get(k)] + [getattr(peaks, k) or 0.0]) or None for k in ("d", "v")}
+    out["F"] = max([t.record.peaks.F or 0.0 for t in cal.tests] + [peaks.F or 0.0]) or None
     f = [r["f"] for r in ranges if r.get("f")]
     out["f"] = [min(f), max(f)] if f else None
     return out
@@ -30,7 +29,7 @@ def beyond_tested(cal, motion, margin: float = TESTED_MARGIN, what_of: str | Non
         name, mine = what_of or "the motion", motion
     else:
         name, mine = motion.name, tested_range(motion)
-    ref, where = tested(cal), cal.device or (cal.record or {}).get("name", "its record")
+    ref, where = tested(cal), cal.device or cal.record.name or "its record"
     out = []
     for key, what, unit in (("d", "stroke", "mm"), ("v", "velocity", "mm/s")):
         if ref.get(key) and mine.get(key) and mine[key] > (1.0 + margin) * ref[key]:
@@ -49,19 +48,19 @@ def tested_text(cal) -> str:
     parts = [f"{r[k]:.4g} {u}" for k, u in (("d", "mm"), ("v", "mm/s")) if r.get(k)]
     freq = f" at {band(*r['f'])}" if r.get("f") else ""
     n = len(cal.tests) or 1
-    where = f"device {cal.device or (cal.record or {}).get('name', '?')}, {n} test{'s' if n > 1 else ''}"
+    where = f"device {cal.device or cal.record.name or '?'}, {n} test{'s' if n > 1 else ''}"
     return f"tested up to {' and '.join(parts)}{freq} ({where}); beyond it the model extrapolates"
 
 
 def provenance_lines(cal) -> list[str]:
     """What an export's header says of the calibration: its record and tested range."""
-    name = (cal.record or {}).get("name")
+    name = cal.record.name
     return [*([f"calibrated on record {name}"] if name else []), tested_text(cal)]
 
 
 def data_key(test) -> tuple:
     """What a test (TestFit) of a calibration holds: (its record file, else its name; its samples)."""
-    return (test.record.get("file") or test.name, test.record.get("samples"))
+    return (test.record.file or test.name, test.record.samples)
 
 
 def same_data(calibrations) -> bool:

@@ -16,11 +16,11 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
     statistics, variables with stderr and 95% intervals, derived quantities,
     correlations of at least ``min_correlation`` and warnings."""
     law = cal.model.law
-    n = sum(t.record.get("samples") or 0 for t in cal.tests) or cal.record.get("samples")
+    n = sum(t.record.samples or 0 for t in cal.tests) or cal.record.samples
     lines = ["[[Model]]", f"    {cal.spec}: law {law.key} ({law.name}), {law.equation}"]
     lines += [f"    + {e.name}: {e.equation}" for e in cal.model.effects]
     lines += ["[[Fit Statistics]]",
-              f"    device:        {cal.device or cal.record.get('name')} ({len(cal.tests) or 1} test(s), "
+              f"    device:        {cal.device or cal.record.name} ({len(cal.tests) or 1} test(s), "
               f"{n} samples)",
               f"    OF (eq. 18):   {cal.of:.6g}"]
     lines += [f"    OF {t.name}: {t.of:.6g}" for t in cal.tests if len(cal.tests) > 1]

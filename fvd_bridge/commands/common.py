@@ -87,12 +87,12 @@ CALIBRATION_RECORD = "<the calibration record>"
 READING = ("columns", "units", "mat_var", "dt", "sg_window", "window", "force_sign")
 
 
-def read_as_calibrated(block: dict, args):
-    """The calibration's record (its file's ``record`` block) read again as
-    calibrate read it (``records.readers.read_as_stored``), or with the
-    verb's reading options where the user gives any; None when the file is
-    not there."""
-    path = block.get("file")
+def read_as_calibrated(source, args):
+    """The calibration's record (its RecordSource, ``Calibration.record``)
+    read again as calibrate read it (``records.readers.read_as_stored``), or
+    with the verb's reading options where the user gives any; None when the
+    file is not there."""
+    path = source.file
     if path and os.path.isfile(path) and any(getattr(args, key, None) is not None for key in READING):
         return read_records([path], args)[0]
-    return read_as_stored(block)
+    return read_as_stored(source)

@@ -54,8 +54,8 @@ def _read(path: str, args):
 def _check_units(cal, record, path: str) -> None:
     """Refuse a record whose peak force or stroke is far off the calibration
     record's (other units: records.validate.scale_mismatch)."""
-    peaks = (cal.record or {}).get("peaks") or {}
-    reference = {key: (peaks[key], peaks[key]) for key in ("F", "d") if peaks.get(key)}
+    peaks = cal.record.peaks
+    reference = {key: (peak, peak) for key, peak in (("F", peaks.F), ("d", peaks.d)) if peak}
     message = scale_mismatch(path, record.scales(), reference, f"{cal.path}'s calibration record")
     if message:
         raise InputError(message)
@@ -79,7 +79,7 @@ def run(args) -> int:
     for cal, path in zip(cals, param_files):
         F = cal.force(record)
         of = float(objective(record.F, F, record.t)) if has_force else float("nan")
-        rows.append({"file": path, "model": cal.spec, "device": (cal.record or {}).get("name"), "of": of,
+        rows.append({"file": path, "model": cal.spec, "device": cal.record.name, "of": of,
                      "of_calibration": cal.of, "F": F, "peak_force_kN": float(np.max(np.abs(F))),
                      "where": analyse(record, F) if has_force else None})
     rows.sort(key=lambda r: (r["of"] if has_force else 0.0, r["file"]))

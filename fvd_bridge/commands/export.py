@@ -76,10 +76,10 @@ def run_opensees(args) -> int:
     export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
     record = None
     if args.check == CALIBRATION_RECORD:
-        record = read_as_calibrated(cal.record or {}, args)
+        record = read_as_calibrated(cal.record, args)
         if record is None:
             raise InputError(f"--check: the calibration record of {args.params} is not found "
-                             f"({(cal.record or {}).get('file')}); give --check RECORD")
+                             f"({cal.record.file}); give --check RECORD")
     elif args.check:
         record = read_records([args.check], args)[0]
     if record is not None:
@@ -135,7 +135,7 @@ def _fmu_check_record(cal, args):
     if args.check:
         return read_records([args.check], args)[0]
     try:
-        record = read_as_calibrated(cal.record or {}, args)
+        record = read_as_calibrated(cal.record, args)
     except InputError as exc:  # a file written before calibration files kept their reading options
         print(f"warning: checked on the golden input: the calibration record needs its reading options "
               f"(give --check RECORD with them): {exc}", file=sys.stderr)
@@ -143,7 +143,7 @@ def _fmu_check_record(cal, args):
         if record is not None:
             return record
         print(f"warning: checked on the golden input: the calibration record "
-              f"({(cal.record or {}).get('file')}) is not found; give --check RECORD", file=sys.stderr)
+              f"({cal.record.file}) is not found; give --check RECORD", file=sys.stderr)
     t, d, v, a = reference_input()
     return golden_record({"t": t, "d": d, "v": v, "a": a})
 

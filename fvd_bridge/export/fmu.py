@@ -52,6 +52,7 @@ from fmpy.build import build_platform_binary
 from fmpy.validation import validate_fmu
 
 from .._version import __version__
+from ..calibration.parts import RecordSource
 from ..effects.catalog import EFFECTS
 from ..errors import InputError, positive
 from ..fit.objective import objective
@@ -290,12 +291,12 @@ def _variable(number: int, name: str) -> str:
 
 def _h_max(calibration, h_max) -> float:
     if h_max is None:
-        h_max = (calibration.record or {}).get("dt") or DEFAULT_H_MAX
+        h_max = calibration.record.dt or DEFAULT_H_MAX
     return positive("h_max [s]", h_max)
 
 
 def _device(calibration) -> str:
-    name = calibration.device or (calibration.record or {}).get("name")
+    name = calibration.device or calibration.record.name
     if name:
         return str(name)
     return Path(calibration.path).parent.name if calibration.path else "damper"
@@ -303,18 +304,18 @@ def _device(calibration) -> str:
 
 def _record_file(calibration) -> str | None:
     """The calibration record's file name (its basename: no local path goes into the FMU)."""
-    file = (calibration.record or {}).get("file")
+    file = calibration.record.file
     return os.path.basename(str(file)) if file else None
 
 
 def _description(calibration) -> str:
     """The FMU's description: the device, named by its law (Law.name) and effects, the model, the calibration."""
     model, law = calibration.model, calibration.model.law
-    rec = calibration.record or {}
+    rec = calibration.record
     kind = law.name + (" with " + ", ".join(e.name.replace("_", " ") for e in model.effects) if model.effects else "")
     effects = "".join(f"; {e.name}: {e.equation}" for e in model.effects)
     file = _record_file(calibration)
-    source = (f" on record {rec.get('name')}" + (f" ({file})" if file else "")) if rec else ""
+    source = (f" on record {rec.name}" + (f" ({file})" if file else "")) if rec.name else ""
     return (f"{_device(calibration)}: {kind} (fvd_bridge model {model.spec}: law {law.number}, {law.equation}"
             f"{effects}), calibrated by fvd_bridge to OF {calibration.of:.4g}{source}; "
             f"{calibration.tested_text()}. "
@@ -336,14 +337,15 @@ def _annotation(calibration) -> ET.Element:
         ET.SubElement(cal, "Effect", name=e.name, equation=e.equation)
     for name, unit, x in zip(model.names, model.units, calibration.values):
         ET.SubElement(cal, "Parameter", name=name, unit=unit, value=repr(float(x)))
-    rec = calibration.record or {}
-    if rec:
-        r = ET.SubElement(cal, "Record", {k: str(rec[k]) for k in ("name", "format", "samples", "dt")
-                                           if rec.get(k) is not None})
+    rec = calibration.record
+    if rec != RecordSource():
+        r = ET.SubElement(cal, "Record", {k: str(v) for k, v in rec.as_dict().items()
+                                           if k in ("name", "format", "samples", "dt") and v not in (None, "")})
         if _record_file(calibration):
             r.set("file", _record_file(calibration))
-        for key, value in (rec.get("peaks") or {}).items():
-            ET.SubElement(r, "Peak", quantity=str(key), value=repr(float(value)))
+        for key, value in rec.peaks.as_dict().items():
+            if value is not None:
+                ET.SubElement(r, "Peak", quantity=key, value=repr(float(value)))
     return annotations
 
 

@@ -45,7 +45,7 @@ def note_export(out: str, cal, calibration_path: str, kind: str, file: str, unit
     and, for OpenSees, whether the mapping is ``exact``. An export to the same
     file replaces the earlier note."""
     file = os.path.abspath(file)
-    entry = {"kind": kind, "file": file, "device": cal.device or (cal.record or {}).get("name"),
+    entry = {"kind": kind, "file": file, "device": cal.device or cal.record.name,
              "model": cal.spec, "calibration": os.path.relpath(os.path.abspath(calibration_path), out),
              "units": units, "exact": exact, "check": check, "written": time.strftime("%Y-%m-%d %H:%M:%S")}
     entries = [e for e in exports_of(out) if e["file"] != file] + [entry]

@@ -168,7 +168,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
     upper- and lower-bound damper (``bounds.expand``)."""
     runs = [(Case("bare frame", None, None, None), None, None)]
     for cal in calibrations:
-        device = cal.device or (cal.record or {}).get("name") or "device"
+        device = cal.device or cal.record.name or "device"
         case = Case(f"law {cal.spec} | {device}", cal.spec, device, float(cal.of),
                     limits=_limits(cal, stroke_limit, force_limit, scale), n_params=len(cal.model.names),
                     per_story=per_story, fitted_on=cal.fitted_on, scale=scale)

@@ -122,17 +122,16 @@ def cut(record: Record, t0: float, t1: float) -> Record:
     return out
 
 
-def read_as_stored(block: dict) -> Record | None:
-    """A calibration file's ``record`` block read again as it was read: its
-    stored reading options and window (notes said then are not repeated);
-    None when its file is not there."""
-    path = (block or {}).get("file")
-    if not path or not os.path.isfile(path):
+def read_as_stored(source) -> Record | None:
+    """A calibration's record (its RecordSource: file, reading, window [s])
+    read again as it was read: its stored reading options and window (notes
+    said then are not repeated); None when its file is not there."""
+    if not source.file or not os.path.isfile(source.file):
         return None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RecordWarning)
-        record = read_record(path, ReadOptions.from_dict(block.get("reading")))
-    return cut(record, *block["window"]) if block.get("window") else record
+        record = read_record(source.file, ReadOptions.from_dict(source.reading))
+    return cut(record, *source.window) if source.window else record
 
 
 def _checked(path: str, opts: ReadOptions) -> ReadOptions:

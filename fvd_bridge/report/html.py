@@ -61,7 +61,7 @@ def parameter_rows(cal) -> list:
 def calibration_table(cal) -> str:
     """A calibration: its model and OF, then one row per parameter (value
     rounded to its uncertainty, unit, stderr, 95% interval, bounds) and its warnings."""
-    caption = (f"law {cal.spec} on {cal.device or cal.record.get('name', '?')}: OF {rounded(cal.of)} "
+    caption = (f"law {cal.spec} on {cal.device or cal.record.name or '?'}: OF {rounded(cal.of)} "
                f"({len(cal.tests) or 1} test(s))")
     out = table(["parameter", "value", "unit", "stderr", "95% interval", "search bounds"], parameter_rows(cal), caption)
     if cal.warnings:

@@ -139,17 +139,17 @@ OPTIONS = (("mat_var", "--mat-var"), ("columns", "--columns"), ("units", "--unit
            ("force_sign", "--force-sign"), ("sg_window", "--sg-window"), ("sg_order", "--sg-order"))
 
 
-def _reading(block: dict) -> list:
-    """The command-line words that read a calibration's record as it was read."""
-    reading, words = block.get("reading") or {}, []
+def _reading(source) -> list:
+    """The command-line words that read a calibration's record (its RecordSource) as it was read."""
+    reading, words = source.reading or {}, []
     for key, option in OPTIONS:
         value = reading.get(key)
         if value in (None, {}, ""):
             continue
         text = ",".join(f"{k}={v}" for k, v in value.items()) if isinstance(value, dict) else str(value)
         words += [option, shlex.quote(text)]
-    if block.get("window"):
-        words += ["--window", ",".join(rounded(x, digits=6) for x in block["window"])]
+    if source.window:
+        words += ["--window", ",".join(rounded(x, digits=6) for x in source.window)]
     return words
 
 
@@ -161,12 +161,12 @@ def _next_commands(cal, device: str, shown: str, out: str, floor: float | None) 
     refusal = cal.model.exports(cal.named())
     target, output = ("opensees", "damper.py") if not refusal["opensees"] else ("fmu", "damper.fmu")
     lines = [f"fvd-bridge export {target} {path} -o {output}"]
-    blocks = [t.record for t in cal.tests]
-    if (floor is None or cal.of > NEAR_FLOOR * floor) and all(b.get("file") for b in blocks) and blocks:
-        files = [shlex.quote(b["file"]) for b in blocks]
+    sources = [t.record for t in cal.tests]
+    if (floor is None or cal.of > NEAR_FLOOR * floor) and all(s.file for s in sources) and sources:
+        files = [shlex.quote(s.file) for s in sources]
         one = ["--device", shlex.quote(device)] if len(files) > 1 else []
         where = shlex.quote(os.path.join(os.path.dirname(os.path.normpath(shown)) or ".", f"diagnose_{device}"))
-        lines.append(" ".join(["fvd-bridge diagnose", *files, *one, *_reading(blocks[0]),
+        lines.append(" ".join(["fvd-bridge diagnose", *files, *one, *_reading(sources[0]),
                                f"--law {cal.spec}", f"--out {where}"]))
     return lines
 
@@ -209,11 +209,11 @@ def _tests_table(cals: list, records: dict) -> str:
     """Each test's range, its noise-floor OF (the record's force noise alone) and each model's OF on it."""
     rows = []
     for t in cals[0].tests:
-        block, rng, rec = t.record, t.range, records.get(t.name)
+        source, rng, rec = t.record, t.range, records.get(t.name)
         floor = None if rec is None else noise_floor(force_noise(rec.F), rec.F)
         ofs = [next((u.of for u in c.tests if u.name == t.name), None) for c in cals]
-        rows.append([t.name, block.get("samples", "-"), rounded(block.get("dt")), rounded(rng.get("d")),
-                     rounded(rng.get("v")), rounded(rng.get("f")), rounded((block.get("peaks") or {}).get("F")),
+        rows.append([t.name, source.samples or "-", rounded(source.dt), rounded(rng.get("d")),
+                     rounded(rng.get("v")), rounded(rng.get("f")), rounded(source.peaks.F),
                      rounded(floor, digits=3), *[rounded(x) for x in ofs]])
     return table(["test", "samples", "dt [s]", "stroke [mm]", "velocity [mm/s]", "frequency [Hz]",
                   "peak force [kN]", "noise-floor OF", *[f"OF of law {c.spec}" for c in cals]], rows,
