@@ -46,12 +46,18 @@ def test_calibrate_into_a_log_file_writes_no_carriage_return(tmp_path):
 
 def _report_and_fail(label):
     """A worker's task: one progress report, then bad input in the caller's words."""
+    import time
+
     from fvd_bridge.campaign import news
     from fvd_bridge.errors import InputError, option
 
     report = news.reporter(label)
     assert report is not None, "the worker has no news queue"
     report(7, 0.25)
+    # the queue's feeder thread sends the news a moment later; a failed task
+    # ends the pool at once (executors.stop), which may drop news not yet
+    # sent (it is progress, best effort): give the feeder time to send it
+    time.sleep(0.5)
     raise InputError(f"{option('--plugin', 'x.py')}: no such file")
 
 
