@@ -339,8 +339,8 @@ def _annotation(calibration) -> ET.Element:
         ET.SubElement(cal, "Parameter", name=name, unit=unit, value=repr(float(x)))
     rec = calibration.record
     if rec != RecordSource():
-        r = ET.SubElement(cal, "Record", {k: str(v) for k, v in rec.as_dict().items()
-                                           if k in ("name", "format", "samples", "dt") and v not in (None, "")})
+        r = ET.SubElement(cal, "Record", {k: str(getattr(rec, k)) for k in ("name", "format", "samples", "dt")
+                                           if getattr(rec, k) not in (None, "")})
         if _record_file(calibration):
             r.set("file", _record_file(calibration))
         for key, value in rec.peaks.as_dict().items():

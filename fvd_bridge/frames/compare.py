@@ -303,7 +303,4 @@ def _at_hand(test, calibrations):
         for rec in cal.records:
             if ((rec.provenance or {}).get("file") or rec.name, rec.n) == key:
                 return rec
-    rec = read_as_stored(test.record)
-    if rec is not None:
-        rec.name = test.name
-    return rec
+    return read_as_stored(test.record, test.name)

@@ -122,15 +122,16 @@ def cut(record: Record, t0: float, t1: float) -> Record:
     return out
 
 
-def read_as_stored(source) -> Record | None:
+def read_as_stored(source, name: str | None = None) -> Record | None:
     """A calibration's record (its RecordSource: file, reading, window [s])
     read again as it was read: its stored reading options and window (notes
-    said then are not repeated); None when its file is not there."""
+    said then are not repeated), named ``name`` (a test's; default the
+    file's); None when its file is not there."""
     if not source.file or not os.path.isfile(source.file):
         return None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RecordWarning)
-        record = read_record(source.file, ReadOptions.from_dict(source.reading))
+        record = read_record(source.file, ReadOptions.from_dict(source.reading), name=name)
     return cut(record, *source.window) if source.window else record
 
 

@@ -48,14 +48,6 @@ p.answer{font-size:1.1em;background:#f3f6fb;border-left:4px solid #336;padding:.
 pre.next{background:#f6f6f6;padding:.5em .8em;white-space:pre-wrap;word-break:break-all}"""
 
 
-def _record(test):
-    """A calibration's test (TestFit) read again as it was calibrated, named as the test; None when its file is gone."""
-    rec = read_as_stored(test.record)
-    if rec is not None:
-        rec.name = test.name
-    return rec
-
-
 def _calibrations(out: str, plugins=()) -> dict:
     """{device: [Calibration]} of the folder's calibration files (read with
     the caller's ``plugins``; one whose plugin is not given is an error, not a gap)."""
@@ -281,7 +273,7 @@ def _device_section(out: str, shown: str, device: str, cals: list, series: dict,
     """One device, the answer first: the model to use and how good it is
     against the noise floor, its parameters, its loops, where it fails, the
     next command; then the other models, the tests, acceptance and exports."""
-    records = {t.name: _record(t) for t in cals[0].tests}
+    records = {t.name: read_as_stored(t.record, t.name) for t in cals[0].tests}  # None: its file is gone
     best, chosen = _best(cals, records)
     told = read_json(os.path.join(out, f"{safe_name(device)}_diagnose.json")) if diagnosed else None
     floor = (told or {}).get("noise_floor_of") or _floor(records, best)  # a diagnosis' floor: the record's
