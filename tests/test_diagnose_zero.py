@@ -171,3 +171,29 @@ def test_shared_friction_damper_credits_no_preload(shared_dir, tmp_path):
         for c in report["all_candidates"]:
             if c["effect"] in ("parallel_stiffness", "asymmetry") and c["significant"]:
                 assert c["effect"] in judged and "beyond the tests' force zero too" in c["reason"]
+
+
+def test_the_zero_fit_searches_a_gaps_clearance_along_its_line(folder):
+    """A gap's clearance moves the OF in steps (``Effect.stepped``): the
+    zero's least squares alone stop on the first step.  Started 0.3 mm
+    from a 2 mm gap, with the tests' offset planted, the zero fit reaches
+    the clearance within 0.02 mm and the offset within 5%."""
+    device, F0 = two_tests(folder, "gapped", OFFSET, 0.3, gap=2.0)
+    model = catalog().model("2+gap")
+    start = np.array([40.0, 0.3, 2.3])
+    assert model.names == ["C", "alpha", "gap.g"]
+    fit = solve(model, start, device)
+    assert fit.params[2] == pytest.approx(2.0, abs=0.02)
+    assert all(offset == pytest.approx(F0, rel=0.05) for offset, _ in fit.values.values())
+
+
+def test_a_parameter_fitted_on_a_test_alone_searches_a_gaps_clearance(folder):
+    """The held-out check fits per-test parameters on the test left out
+    (``heldout.fit_own``); a gap's clearance among them is searched along
+    its line too: from 2.3 mm it reaches the 2 mm gap within 0.02 mm."""
+    from fvd_bridge.diagnose.heldout import fit_own
+
+    device, _ = two_tests(folder, "gapped_alone", gap=2.0)
+    model = catalog().model("2+gap")
+    own = fit_own(model, device.tests[1], [40.0, 0.3, 2.3], ["gap.g"], device.scales())
+    assert own[2] == pytest.approx(2.0, abs=0.02)

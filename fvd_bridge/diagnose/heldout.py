@@ -82,8 +82,9 @@ def fit_own(model, test, params, names, scales) -> np.ndarray:
         of = np.abs(residuals(X)).sum(axis=-1)
         return np.where(np.isfinite(of), of, np.inf)
 
+    stepped = [i for i, n in enumerate(names) if n in model.stepped]
     found = run_local(evaluate, residuals, len(cols), np.random.default_rng(0), FROM_START, None,
-                      space.to_unit(params[cols])[None, :])
+                      space.to_unit(params[cols])[None, :], stepped)
     x, of = found.x, found.of
     return full(x)[0] if of < evaluate(space.to_unit(params[cols])[None, :])[0] else params
 
