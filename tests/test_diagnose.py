@@ -196,6 +196,26 @@ def test_where_numbers_point_at_the_effect(protocol, lab_dir):
     assert len(w.levels) == 5 and [lv.peak_v for lv in w.levels] == sorted(lv.peak_v for lv in w.levels)
 
 
+def test_a_diagnosis_keeps_what_it_was_run_on(protocol, lab_dir):
+    """``Diagnosis.inputs`` is a frozen DiagnosisInputs: the record, seed,
+    settings and catalog given, and the record's noise floor of each test;
+    its parameters and units are its fit's, in the fit's order."""
+    from fvd_bridge.diagnose.core import DiagnosisInputs
+
+    rec = rig_record(protocol, lab_dir, "inputs", seed=7)
+    cat = catalog()
+    diag = diagnose(rec, "2", seed=4, settings=SETTINGS, candidates=False, parent=None, catalog=cat)
+    i = diag.inputs
+    assert isinstance(i, DiagnosisInputs)
+    assert i.record is rec and i.seed == 4 and i.settings is SETTINGS and i.catalog is cat
+    assert len(i.floors) == 1 and i.floors[0]["floor"] == diag.floor
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        i.seed = 5
+    assert diag.params() == {n: p.value for n, p in diag.fit.parameters.items()}
+    assert diag.units() == {"C": "kN/(mm/s)^alpha", "alpha": "-"} == diag.as_dict()["units"]
+    assert list(diag.params()) == diag.fit.names and diag.params()["C"] == pytest.approx(C, rel=0.03)
+
+
 @pytest.mark.slow
 def test_custom_effect_example_runs():
     res = subprocess.run([sys.executable, str(REPO / "examples" / "custom_effect.py")], capture_output=True,

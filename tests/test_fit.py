@@ -318,3 +318,61 @@ def test_a_gapped_damper_on_an_earthquake_test_calibrates_to_one_optimum_from_an
         values = dict(zip(f.names, f.params))
         assert values["gap.g"] == pytest.approx(1.5, abs=0.01)
         assert values["alpha"] == pytest.approx(0.4, abs=0.01)
+
+
+def test_a_fits_parameters_are_its_columns_and_a_fixed_one_says_so():
+    """``FitResult.parameters`` holds, in the fit's order, each estimate with
+    its unit and search bounds and no interval (a fit has none); the file's
+    mapping (``as_dict``) is the parallel fields'.  Held at alpha = 0.3 (its
+    truth) the fit keeps it there, reports it fixed and never on a bound,
+    and C comes back to 2%."""
+    model, rec = synthetic(2)
+    free = fit_model(model, rec, seed=3)
+    p = free.parameters
+    assert list(p) == free.names == ["C", "alpha"]
+    assert [x.value for x in p.values()] == list(free.params)
+    assert [x.unit for x in p.values()] == free.units == ["kN/(mm/s)^alpha", "-"]
+    assert [x.bounds for x in p.values()] == [tuple(b) for b in free.bounds.tolist()]
+    assert not any(x.fixed or x.stderr is not None or x.ci95 is not None for x in p.values())
+    assert free.named() == {n: float(v) for n, v in zip(free.names, free.params)}
+    d = free.as_dict()
+    assert d["params"] == free.named() and d["units"] == {"C": "kN/(mm/s)^alpha", "alpha": "-"}
+    assert d["bounds"] == {n: [float(lo), float(hi)] for n, (lo, hi) in zip(free.names, free.bounds)}
+    assert p["C"].text() == f"C = {free.params[0]:.6g} kN/(mm/s)^alpha"
+
+    held = fit_model(model, rec, seed=3, overrides={"alpha": (0.3, 0.3)})
+    alpha, C = held.parameters["alpha"], held.parameters["C"]
+    assert alpha.fixed and alpha.value == 0.3 and alpha.bounds == (0.3, 0.3)
+    assert alpha.text() == "alpha = 0.3 (fixed)" and not C.fixed
+    assert C.value == pytest.approx(TRUE[2][0], rel=0.02)
+    assert "alpha" not in [name for name, _ in held.on_bound()]
+
+
+def test_a_calibrated_parameter_fixed_by_the_caller_says_so():
+    """``fb.calibrate(..., fixed={"alpha": 0.3})``: alpha is fixed, its text and
+    the report say so (no bounds of one value); C is free, its text as before."""
+    import fvd_bridge as fb
+
+    _, rec = synthetic(2)
+    cal = fb.calibrate(rec, "2", fixed={"alpha": 0.3}, intervals=0)
+    alpha, C = cal.params["alpha"], cal.params["C"]
+    assert alpha.fixed and alpha.value == 0.3 and alpha.bounds == (0.3, 0.3)
+    assert alpha.text() == "alpha = 0.3 (fixed)" and "alpha = 0.3 (fixed)\n" in cal.report()
+    assert not C.fixed and C.text() == f"C = {C.value:.6g} kN/(mm/s)^alpha"
+    assert C.value == pytest.approx(TRUE[2][0], rel=0.02)
+
+
+def test_a_fitted_parameters_text_and_where_it_is_defined():
+    """The text with an interval keeps its format; a fixed parameter's drops
+    its zero-width interval; one class, re-exported by the package and by
+    ``fvd_bridge.calibration``."""
+    import fvd_bridge
+    from fvd_bridge import calibration
+    from fvd_bridge.fit.parameter import FittedParameter
+
+    assert fvd_bridge.FittedParameter is calibration.FittedParameter is FittedParameter
+    C = FittedParameter("C", 45.06, "kN/(mm/s)^alpha", 0.05, (44.96, 45.16), (1.0, 900.0))
+    assert C.text() == "C = 45.06 +/- 0.05 (0.11%) kN/(mm/s)^alpha, 95% [44.96, 45.16]"
+    assert repr(C) == f"<FittedParameter {C.text()}>" and float(C) == 45.06
+    beta = FittedParameter("beta", 1.6, "-", 0.0, (1.6, 1.6), (1.6, 1.6), fixed=True)
+    assert beta.text() == "beta = 1.6 (fixed)"

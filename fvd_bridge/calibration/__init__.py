@@ -1,13 +1,15 @@
 """The calibration: one calibrated model of one device, the contract
 between identification and every exporter (OpenSees, FMU, frames, compare).
 
-``core``: the Calibration and its parameters; ``parts``: its tests
+``core``: the Calibration and its parameters (each a FittedParameter,
+``fit.parameter``'s, re-exported here); ``parts``: its tests
 (TestFit), their records' sources (RecordSource, Peaks) and run statistics
 (RunStats); ``schema``: the file (save, load, checks); ``text``: the fit
 report; ``tested``: where it holds and which calibrations rank together.
 """
 
-from .core import Calibration, FittedParameter
+from ..fit.parameter import FittedParameter
+from .core import Calibration
 from .parts import Peaks, RecordSource, RunStats, TestFit
 from .schema import SCHEMA_VERSION, record_provenance
 from .tested import common_tests, data_key, same_data

@@ -1,7 +1,7 @@
-"""A calibrated model: ``Calibration`` (its parameters, where it holds,
-its force on a record, its exports) and ``FittedParameter``.  The file it
-is saved as is ``schema``'s; its text report ``text``'s; its tested range
-``tested``'s."""
+"""A calibrated model: ``Calibration`` (its parameters, each a
+``fit.parameter.FittedParameter``, where it holds, its force on a record,
+its exports).  The file it is saved as is ``schema``'s; its text report
+``text``'s; its tested range ``tested``'s."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ import yaml
 from ..errors import InputError, option
 from ..fit.layout import SEP, Layout
 from ..fit.objective import objective
+from ..fit.parameter import FittedParameter
 from ..io.staging import atomic_file
 from ..records.device import as_device, tested_range
 from . import schema, tested as tested_mod, text
@@ -21,39 +22,6 @@ from .parts import RecordSource, RunStats, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
 from .text import REPORTED_CORRELATION
-
-
-@dataclass(frozen=True)
-class FittedParameter:
-    """One calibrated parameter: ``value`` [``unit``]; ``stderr`` and the 95%
-    interval ``ci95`` (lower, upper) of the bootstrap (``fit.intervals``;
-    None: not computed); the search ``bounds`` (lower, upper; None where
-    unknown); ``per_test``: {test: value} of a parameter fitted per test."""
-
-    name: str
-    value: float
-    unit: str
-    stderr: float | None = None
-    ci95: tuple | None = None
-    bounds: tuple = (None, None)
-    per_test: dict = field(default_factory=dict)
-
-    def __float__(self) -> float:
-        return float(self.value)
-
-    def text(self) -> str:
-        """'C = 45.06 +/- 0.05 (0.11%) kN/(mm/s)^alpha, 95% [44.96, 45.16]'."""
-        out = f"{self.name} = {self.value:.6g}"
-        if self.stderr is not None:
-            rel = f" ({abs(self.stderr / self.value):.2%})" if self.value else ""
-            out += f" +/- {self.stderr:.2g}{rel}"
-        out += f" {self.unit}" if self.unit != "-" else ""
-        if self.ci95 is not None:
-            out += f", 95% [{self.ci95[0]:.6g}, {self.ci95[1]:.6g}]"
-        return out
-
-    def __repr__(self) -> str:
-        return f"<FittedParameter {self.text()}>"
 
 
 @dataclass(frozen=True)
@@ -92,7 +60,8 @@ class Calibration:
 
     @property
     def params(self) -> dict:
-        """{name: FittedParameter}: value, unit, stderr, ci95, bounds, per-test values."""
+        """{name: FittedParameter}: value, unit, stderr, ci95, bounds, per-test
+        values, fixed (by the caller: lower bound == upper bound)."""
         bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
         out = {}
         for name, unit, value, (lo, hi) in zip(self.model.names, self.model.units, self.values, bounds):
@@ -100,7 +69,7 @@ class Calibration:
             per_test = {t.name: t.parameters[name] for t in self.tests if name in t.parameters}
             out[name] = FittedParameter(name, float(value), unit, entry.get("stderr"),
                                         tuple(entry["ci95"]) if "ci95" in entry else None,
-                                        (num(lo), num(hi)), per_test)
+                                        (num(lo), num(hi)), per_test, fixed=bool(lo == hi))
         return out
 
     @property

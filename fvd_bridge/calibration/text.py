@@ -34,7 +34,7 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
         lines.append(f"    optimizer:     {cal.settings['optimizer']}, seed {cal.settings.get('seed')}")
     lines += [f"    {cal.tested_text()}", "[[Variables]]"]
     for p in cal.params.values():
-        bounds = "" if None in p.bounds else f"  (bounds [{p.bounds[0]:.4g}, {p.bounds[1]:.4g}])"
+        bounds = "" if None in p.bounds or p.fixed else f"  (bounds [{p.bounds[0]:.4g}, {p.bounds[1]:.4g}])"
         lines.append(f"    {p.text()}{bounds}")
         lines += [f"        {test}: {v:.6g}" for test, v in p.per_test.items()]
     if cal.derived():

@@ -52,7 +52,7 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
 
 def _bound_message(model, best, name: str, side: str) -> str:
     """'alpha ended on its upper bound 1 (bounds auto); try --bound 9:alpha=0,2'."""
-    lo, hi = best.bounds[best.names.index(name)]
+    lo, hi = best.parameters[name].bounds
     rigid = {p.name for p in model.law.parameters if p.rigid_upper}
     if side == "upper" and name.split("@")[0] in rigid:
         return (f"{name} ended on its upper bound {hi:.4g}, which stands for rigid (an elastic range of a "

@@ -164,7 +164,7 @@ def _summary_json(records, results, summary, cs) -> dict:
                           "warnings": {d: m["warnings"][d] for d in summary["devices"]}}
                    for spec, m in summary["models"].items()},
         "runs": [{"device": dev, "model": spec, "run": i, "of": r.of,
-                  "params": dict(zip(r.names, map(float, r.params))), "evaluations": r.evaluations,
+                  "params": r.named(), "evaluations": r.evaluations,
                   "wall_s": round(r.wall_s, 3), "seed": list(np.atleast_1d(r.seed).tolist()), "stop": r.stop}
                  for (dev, spec), runs in results.items() for i, r in enumerate(runs)],
     }

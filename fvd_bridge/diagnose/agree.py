@@ -125,7 +125,7 @@ def check(model, base_fit, record, judge, per_test=(), progress=None) -> Agreeme
     if len(device.tests) < 2:
         return None
     given = free(model, per_test)
-    values = dict(zip(base_fit.names, map(float, base_fit.params)))
+    values = base_fit.named()
     overrides = dict(base_fit.widened or {})
 
     def refit(names):

@@ -61,6 +61,22 @@ def diagnose_settings(pop: int | None = None, gens: int | None = None):
     return settings_for(DEFAULT_OPTIMIZER, pop, gens or DIAGNOSE_GENS)
 
 
+@dataclass(frozen=True)
+class DiagnosisInputs:
+    """What a diagnosis was run on: ``Diagnosis.ladder()`` and ``accept()`` go on from there."""
+
+    record: object
+    """The Record or Device diagnosed (kN, mm, s)."""
+    seed: int
+    """The seed of its fits."""
+    settings: object
+    """Its fits' optimizer settings (``diagnose_settings``)."""
+    catalog: object
+    """The Catalog its model and candidate effects came from."""
+    floors: list
+    """Per test, its noise floor (``floor.record_floor``: OF, sigma_F [kN], sigma_d [mm], sigma_v [mm/s])."""
+
+
 @dataclass
 class Diagnosis:
     """The result of ``diagnose``: the fitted model, where it fails, the
@@ -83,7 +99,7 @@ class Diagnosis:
     per_test: tuple = ()  # parameters fitted per test (--per-test)
     agreement: agree.Agreement | None = None  # do the tests agree with one parameter set (several tests)
     zero: zero_mod.Zero | None = None  # the tests' force zero, when an offset-like effect needed it (not exported)
-    inputs: dict = field(default_factory=dict, repr=False)  # record, seed, settings, catalog: ladder() and accept()
+    inputs: DiagnosisInputs | None = field(default=None, repr=False)  # what it was run on: ladder() and accept()
     #: the ladder's climb (``ladder.py`` sets it on import: the ladder sits above the diagnosis)
     _climb = None
 
@@ -134,9 +150,9 @@ class Diagnosis:
             raise InputError(f"diagnosis of {self.spec}: no candidate helps beyond noise; "
                              f"accept(effect=...) takes one by name")
         c = self.best if effect is None else self.candidate(effect)
-        settings = {"source": "diagnose", "seed": self.inputs.get("seed"), "optimizer": DEFAULT_OPTIMIZER}
+        settings = {"source": "diagnose", "seed": self.inputs.seed, "optimizer": DEFAULT_OPTIMIZER}
         warnings = [] if c.significant else [f"{c.effect} was not credited by diagnose: {c.reason}"]
-        return Calibration.from_fit(c.model, c.fit, self.inputs["record"], settings, warnings)
+        return Calibration.from_fit(c.model, c.fit, self.inputs.record, settings, warnings)
 
     def ladder(self, max_rungs: int | None = None, progress=None):
         """The ladder from this diagnosis' model on the same record (``climb``).
@@ -154,8 +170,7 @@ class Diagnosis:
             Each rung's model, OF and gain, and each rung's diagnosis.
         """
         i = self.inputs
-        return self._climb(i["record"], self.model, i["seed"], i["settings"], max_rungs, progress, i["catalog"],
-                           self.per_test)
+        return self._climb(i.record, self.model, i.seed, i.settings, max_rungs, progress, i.catalog, self.per_test)
 
     @property
     def spec(self) -> str:
@@ -205,8 +220,12 @@ class Diagnosis:
         return self.fit.on_bound(tol)
 
     def params(self) -> dict:
-        """{name: value} of the diagnosed model's fit."""
-        return {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}
+        """{name: value} of the diagnosed model's fit [each its unit]."""
+        return self.fit.named()
+
+    def units(self) -> dict:
+        """{name: unit} of the diagnosed model's parameters."""
+        return {n: p.unit for n, p in self.fit.parameters.items()}
 
     def as_dict(self) -> dict:
         """The --json report: model, of, noise_floor_of, candidates (only those
@@ -231,7 +250,7 @@ class Diagnosis:
             "agreement": None if self.agreement is None else self.agreement.as_dict(),
             "force_zero": None if self.zero is None else self.zero.as_dict(),
             "params": self.params(),
-            "units": dict(zip(self.fit.names, self.fit.units)),
+            "units": self.units(),
             "on_bound": [list(x) for x in self.on_bound()],
             "where": self.where.as_dict(),
             "all_candidates": [c.as_dict() for c in self.candidates],
@@ -367,5 +386,5 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
     diag.parent = parent if isinstance(parent, tuple) else None
     diag.wall_s = time.perf_counter() - t0
-    diag.inputs = {"record": record, "seed": seed, "settings": settings, "catalog": catalog, "floors": noises}
+    diag.inputs = DiagnosisInputs(record, seed, settings, catalog, noises)
     return diag

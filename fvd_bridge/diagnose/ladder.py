@@ -61,7 +61,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
     diag = diagnose(record, model, seed, settings, progress=progress, parent=None, catalog=catalog,
                     per_test=per_test)
     lad.diagnoses.append(diag)
-    lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), dict(zip(diag.fit.names, diag.fit.units))))
+    lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), diag.units()))
     while True:
         if max_rungs is not None and len(lad.rungs) > max_rungs:
             lad.stop = f"after {max_rungs} added effect(s) (--max-rungs)"
@@ -83,10 +83,10 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
         diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not last,
                         progress=progress, parent=(prev.spec, prev.of), catalog=catalog, per_test=per_test,
-                        floors=prev.inputs["floors"])
+                        floors=prev.inputs.floors)
         lad.diagnoses.append(diag)
         lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
-                              dict(zip(diag.fit.names, diag.fit.units)), best.explanation, best.effect))
+                              diag.units(), best.explanation, best.effect))
     lad.wall_s = time.perf_counter() - t0
     return lad
 

@@ -115,7 +115,7 @@ class Candidate:
     def exports(self) -> dict:
         """{target: why not ('' when it exports)} of the refitted model
         (``Model.exports``: the law's and effects' declared forms)."""
-        return self.model.exports(dict(zip(self.fit.names, self.fit.params)))
+        return self.model.exports(self.fit.named())
 
     def as_dict(self) -> dict:
         exports = self.exports
@@ -128,7 +128,7 @@ class Candidate:
                 "of_effect_off": self.off_of, "held_out": self.held_out, "on_cap": list(self.on_cap),
                 "exports": [target for target, why in exports.items() if not why],
                 "not_exported": {target: why for target, why in exports.items() if why},
-                "params": {n: float(v) for n, v in zip(self.fit.names, self.fit.params)}}
+                "params": self.fit.named()}
 
 
 @dataclass
@@ -225,7 +225,7 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
         if rest.refusal(new):
             continue
         model = rest.with_effect(new)
-        values = dict(zip(base_fit.names, map(float, base_fit.params)))
+        values = base_fit.named()
         given = dict(values, **{n: values[o] for o, n in zip(old.names, new.names)})
         pt = free(model, per_test)
         start = nested_start(model, record, list(given), list(given.values()), pt)
@@ -268,7 +268,7 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
         if c.replaces:
             c.explanation = f"{e.summary}; replace {c.replaces} by {e.name} ({c.size.text})"
         own = set(e.names) if not e.off(c.fit.params[[c.model.names.index(n) for n in e.names]])[0] else set()
-        c.on_cap = [f"{name} ended on its {side} bound {c.fit.bounds[c.fit.names.index(name)][int(side == 'upper')]:.4g} "
+        c.on_cap = [f"{name} ended on its {side} bound {c.fit.parameters[name].bounds[int(side == 'upper')]:.4g} "
                     f"(the effect's plausible range): the device's effect may be larger than this model allows, "
                     f"or another effect is at work"
                     for name, side in c.fit.on_bound() if name in own]

@@ -10,8 +10,9 @@ from .where import summary_lines
 EXPLAIN_TOP = 3
 
 
-def _params(names, values, units) -> str:
-    return ", ".join(f"{n} = {v:.4g} {u}" for n, v, u in zip(names, values, units))
+def _params(fit) -> str:
+    """'C = 45.06 kN/(mm/s)^alpha, alpha = 0.3 -': a fit's estimates with their units."""
+    return ", ".join(f"{p.name} = {p.value:.4g} {p.unit}" for p in fit.parameters.values())
 
 
 def _targets(exports: dict) -> str:
@@ -27,7 +28,6 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
     """The short text summary: fit, where it fails, candidates, verdict;
     ``next_lines``: the commands to run next (default: diagnose the best
     candidate on ``record_label``)."""
-    f = diag.fit
     n = diag.noise
     lines = [f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g} "
              f"({diag.of / diag.floor:.1f}x the noise floor {diag.floor:.4g})" if diag.floor > 0 else
@@ -35,7 +35,7 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
              f"noise floor: force noise {diag.noise_std:.3g} kN alone gives {n.get('force_floor', diag.floor):.4g}; "
              f"with displacement noise {n.get('sigma_d', 0.0):.3g} mm (velocity noise "
              f"{n.get('sigma_v', 0.0):.3g} mm/s) through the model: {diag.floor:.4g}",
-             f"parameters: {_params(f.names, f.params, f.units)}"]
+             f"parameters: {_params(diag.fit)}"]
     if diag.tests:
         lines.append(f"tests of device {diag.record} (fitted together"
                      + (f", {', '.join(diag.per_test)} per test" if diag.per_test else "")

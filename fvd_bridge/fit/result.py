@@ -7,6 +7,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .parameter import FittedParameter
 from .space import Space
 
 
@@ -44,11 +45,23 @@ class FitResult:
     stop: str = ""  # why the search stopped (the back-end's ``Search.stop``)
     flat_ends: list = field(default_factory=list)  # parameters whose bound widened without lowering the OF
 
+    @property
+    def parameters(self) -> dict[str, FittedParameter]:
+        """{name: FittedParameter} in the fit's order (a per-test column 'NAME@TEST'
+        its own): the estimate [its unit], the search bounds, fixed (by the
+        caller: lower bound == upper bound); no stderr or ci95 (a fit has no intervals)."""
+        return {n: FittedParameter(n, float(v), u, bounds=(float(lo), float(hi)), fixed=bool(lo == hi))
+                for n, v, u, (lo, hi) in zip(self.names, self.params, self.units, self.bounds)}
+
+    def named(self) -> dict[str, float]:
+        """{name: estimate} in the fit's order, as ``Calibration.named``."""
+        return {n: p.value for n, p in self.parameters.items()}
+
     def as_dict(self) -> dict:
         d = asdict(self)
-        d["params"] = {n: float(v) for n, v in zip(self.names, self.params)}
-        d["bounds"] = {n: [float(lo), float(hi)] for n, (lo, hi) in zip(self.names, self.bounds)}
-        d["units"] = dict(zip(self.names, self.units))
+        d["params"] = self.named()
+        d["bounds"] = {n: list(p.bounds) for n, p in self.parameters.items()}
+        d["units"] = {n: p.unit for n, p in self.parameters.items()}
         d.pop("names")
         d["history"] = [float(h) for h in self.history]
         d["log"] = [bool(x) for x in self.log]
@@ -60,15 +73,17 @@ class FitResult:
     def on_bound(self, tol: float = 1e-3) -> list[tuple[str, str]]:
         """Parameters within ``tol`` of a bound in the search space (log-scaled ones
         judged on their log scale): [(name, 'lower'|'upper')].  A lower bound of 0
-        and an effect's 'off' value are natural ends, not starvation."""
+        and an effect's 'off' value are natural ends, not starvation; a fixed
+        parameter is on neither."""
         x = Space.of(self.bounds, self.log or None).position(np.asarray(self.params))
         off = self.off or [None] * len(self.names)
         out = []
-        for name, xi, (lo, hi), o in zip(self.names, x, self.bounds, off):
-            if lo == hi:  # fixed by the caller
+        for p, xi, o in zip(self.parameters.values(), x, off):
+            if p.fixed:
                 continue
+            lo, hi = p.bounds
             if xi <= tol and lo != 0.0 and lo != o:
-                out.append((name, "lower"))
+                out.append((p.name, "lower"))
             elif xi >= 1.0 - tol and hi != o:
-                out.append((name, "upper"))
+                out.append((p.name, "upper"))
         return out
