@@ -117,8 +117,8 @@ def study(law, protocol, seeds, folder):
         t1 = time.perf_counter()
         fb.calibrate(rec, str(law), seed=s, intervals=0)  # the fit alone, the same record
         times.append((t1 - t0, time.perf_counter() - t1))
-        ci = np.array([cal.intervals["parameters"][n]["ci95"] for n in model.names])
-        se = np.array([cal.intervals["parameters"][n]["stderr"] for n in model.names])
+        ci = np.array([cal.intervals.parameters[n].ci95 for n in model.names])
+        se = np.array([cal.intervals.parameters[n].stderr for n in model.names])
         rows.append((cal.values, ci, se))
         try:
             peer.append(lmfit_interval(model, rec, truth * 1.1))

@@ -35,13 +35,13 @@ def test_a_fixed_parameter_stays_and_the_others_are_fitted(law9_record):
     free = fb.calibrate(law9_record, "9", intervals=0)
     off = fb.calibrate(law9_record, "9", fixed={"beta": 1.1 * truth["beta"]}, intervals=8)
     assert off.params["beta"].value == 1.1 * truth["beta"]
-    assert off.intervals["parameters"]["beta"]["ci95"] == [1.1 * truth["beta"]] * 2
-    assert not any("beta" in line for line in off.intervals["not_identified"])
+    assert off.intervals.parameters["beta"].ci95 == (1.1 * truth["beta"],) * 2
+    assert not any("beta" in line for line in off.intervals.not_identified)
     assert "beta = " in "\n".join(off.interval_lines()) and "(fixed by the caller)" in "\n".join(off.interval_lines())
     assert off.of > free.of * 1.01
     at_free = fb.calibrate(law9_record, "9", fixed={"beta": free.params["beta"].value}, intervals=0)
     assert at_free.of == pytest.approx(free.of, rel=2 * L1_TOLERANCE)
-    lo, hi = off.intervals["parameters"]["C"]["ci95"]
+    lo, hi = off.intervals.parameters["C"].ci95
     assert lo < off.params["C"].value < hi
 
 

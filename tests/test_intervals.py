@@ -145,10 +145,10 @@ def test_law8_names_what_is_not_identified_and_gives_the_product(tmp_path):
     cal = calibrate(rec, model, runs=1)
     lines = "\n".join(cal.interval_lines())
     assert "not identified: mu: only mu*N acts" in lines and "not identified: N: only mu*N acts" in lines
-    assert cal.intervals["parameters"]["mu"]["ci95"] == pytest.approx(list(cal.bounds[2]))
-    product = cal.intervals["derived"]["mu*N"]
-    assert product["value"] == pytest.approx(165.0, rel=0.02)
-    assert product["ci95"][0] < product["value"] < product["ci95"][1]
+    assert cal.intervals.parameters["mu"].ci95 == pytest.approx(tuple(cal.bounds[2]))
+    product, (value, _) = cal.intervals.derived["mu*N"], cal.derived()["mu*N"]
+    assert value == pytest.approx(165.0, rel=0.02)
+    assert product.ci95[0] < value < product.ci95[1]
 
 
 def test_intervals_travel_in_the_calibration_file(tmp_path):
@@ -163,7 +163,7 @@ def test_intervals_travel_in_the_calibration_file(tmp_path):
     assert raw["correlation"]["names"] == ["C", "alpha"] and raw["intervals"]["replicates"] == 8
     back = Calibration.load(path)
     assert back.interval_lines() == cal.interval_lines()
-    assert calibrate(rec, "2", runs=1, intervals=0).intervals == {}
+    assert calibrate(rec, "2", runs=1, intervals=0).intervals is None
 
 
 def test_the_bootstraps_differentiator_is_savgol_filter_at_each_samples_window():

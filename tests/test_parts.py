@@ -12,7 +12,7 @@ import yaml
 
 import fvd_bridge as fb
 from fvd_bridge.calibration import Calibration
-from fvd_bridge.calibration import Peaks, RecordSource, RunStats, TestFit
+from fvd_bridge.calibration import BootstrapIntervals, Interval, Peaks, RecordSource, RunStats, TestFit
 from fvd_bridge.campaign.store import result_from_dict, result_to_dict
 from fvd_bridge.catalog import catalog
 from fvd_bridge.errors import InputError
@@ -78,9 +78,14 @@ def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_
     assert without_version((tmp_path / name).read_text()) == without_version((V3 / name).read_text())
     assert again.tests == cal.tests and again.runs == cal.runs and np.array_equal(again.values, cal.values)
     assert again.record == cal.record and again.intervals == cal.intervals and again.settings == cal.settings
+    assert cal.solver is None and again.solver is None  # written before the solver block: none is added
+    if name == "device_per_test.yaml":  # intervals with a parameter fitted per test
+        assert isinstance(cal.intervals, BootstrapIntervals) and cal.intervals.replicates > 0
+        assert all(isinstance(i, Interval) for i in cal.intervals.parameters.values())
+        assert cal.params["C"].ci95 == cal.intervals.parameters["C"].ci95
 
 
-def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before():
+def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before(tmp_path):
     dev = Device(C=45.4, alpha=0.3, friction=2.0)
     noise = Noise(force=0.5, displacement=0.005)
     slow = simulate(dev, paper(cycles=2), noise, seed=1, name="sn7_slow")
@@ -101,7 +106,16 @@ def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before
     before = yaml.safe_load((V3 / "device_per_test.yaml").read_text())
     # the settings are provenance that follows the optimizer's settings (a new one adds a key there)
     assert list(written["settings"]) == list(before["settings"])
+    # the file of before, and the block of how the best run's search ended (new in 0.4)
+    solver = written.pop("solver")
     assert shape({**written, "settings": {}}) == shape({**before, "settings": {}}) and list(written) == list(before)
+    assert solver == cal.solver.as_dict() and cal.solver.optimizer == "local" and cal.solver.stop.startswith("local: ")
+    assert cal.solver.evaluations > 0 and f"search:        {cal.solver.evaluations} evaluations" in cal.report()
+    assert isinstance(cal.intervals, BootstrapIntervals) and cal.intervals.replicates == 20
+    assert set(cal.intervals.parameters) == {"C", "alpha", "friction.Ff", "C@sn7_fast"}
+    back = Calibration.load(cal.save(str(tmp_path / "sn7.yaml")))
+    assert back.solver == cal.solver and back.intervals.parameters["C@sn7_fast"].ci95 == pytest.approx(
+        cal.intervals.parameters["C@sn7_fast"].ci95)
     assert written["tests"] == [t.as_dict() for t in cal.tests]
     assert written["of_mean_over_runs"] == cal.runs.of_mean and written["of_sigma_over_runs"] == cal.runs.of_sigma
 

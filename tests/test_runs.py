@@ -63,9 +63,8 @@ def test_command_line_and_api_are_one_engine(rec, tmp_path):
     written = fb.Calibration.load(tmp_path / "out" / "params" / "dev" / "law9.yaml")
     assert written.values.tolist() == cal.values.tolist() and written.of == cal.of
     assert written.params["beta"].value == 150.0
-    for name, entry in written.intervals["parameters"].items():
-        assert (entry["ci95"], entry["stderr"]) == (cal.intervals["parameters"][name]["ci95"],
-                                                    cal.intervals["parameters"][name]["stderr"])
+    for name, entry in written.intervals.parameters.items():
+        assert (entry.ci95, entry.stderr) == (cal.intervals.parameters[name].ci95, cal.intervals.parameters[name].stderr)
     assert written.settings["runs_made"] == cal.settings["runs_made"] == FIRST_RUNS
     assert f"runs:          {FIRST_RUNS} of 5" in cal.report()
 

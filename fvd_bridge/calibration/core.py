@@ -14,11 +14,10 @@ from ..errors import InputError, option
 from ..fit.layout import SEP, Layout
 from ..fit.objective import objective
 from ..fit.parameter import FittedParameter
-from ..io.staging import atomic_file
+from ..io.staging import atomic_file, num
 from ..records.device import as_device, tested_range
 from . import schema, tested as tested_mod, text
-from ..io.staging import num
-from .parts import RecordSource, RunStats, TestFit
+from .parts import BootstrapIntervals, RecordSource, RunStats, SolverStatus, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
 from .text import REPORTED_CORRELATION
@@ -43,7 +42,8 @@ class Calibration:
     path: str | None = None  # the file it was read from
     tests: tuple = ()  # TestFit per test: name, weight, of, range, record, parameters
     device: str = ""
-    intervals: dict = field(default_factory=dict)  # fit.intervals.Intervals.as_dict() ({} : none)
+    intervals: BootstrapIntervals | None = None  # the parameters' intervals (fit.intervals; None: none)
+    solver: SolverStatus | None = None  # how the best run's search ended (None: not recorded)
     records: list = field(default_factory=list, repr=False, compare=False)  # the Records fitted (not saved)
 
     def __post_init__(self):
@@ -54,6 +54,7 @@ class Calibration:
         if not isinstance(self.record, RecordSource):
             object.__setattr__(self, "record", RecordSource.from_dict(self.record))
         object.__setattr__(self, "runs", RunStats.from_dict(self.runs))
+        object.__setattr__(self, "intervals", BootstrapIntervals.from_dict(self.intervals))
 
     def __repr__(self) -> str:
         return f"<Calibration {self.spec} of {self.device or self.record.name or '?'}: OF {self.of:.4g}>"
@@ -65,7 +66,7 @@ class Calibration:
         bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
         out = {}
         for name, unit, value, (lo, hi) in zip(self.model.names, self.model.units, self.values, bounds):
-            entry = schema.interval_entry(self, name)
+            entry = self.intervals.of_parameter(name) if self.intervals else {}
             per_test = {t.name: t.parameters[name] for t in self.tests if name in t.parameters}
             out[name] = FittedParameter(name, float(value), unit, entry.get("stderr"),
                                         tuple(entry["ci95"]) if "ci95" in entry else None,
@@ -75,7 +76,7 @@ class Calibration:
     @property
     def correlation(self) -> dict | None:
         """{a: {b: r}}: the parameters' correlation over the bootstrap replicates (None: no intervals)."""
-        given = self.intervals.get("correlation") if self.intervals else None
+        given = self.intervals.correlation if self.intervals else None
         if not given:
             return None
         names, matrix = given["names"], np.asarray(given["matrix"], dtype=float)
@@ -371,7 +372,8 @@ class Calibration:
                    bounds=np.asarray(fit.bounds, dtype=float)[:n], record=record_provenance(device.tests[0]),
                    settings=dict(settings or {}), warnings=list(warnings), runs=RunStats.from_dict(runs, n),
                    tests=tuple(tests),
-                   device=device.name, intervals=intervals.as_dict() if intervals is not None else {},
+                   device=device.name, intervals=BootstrapIntervals.from_dict(intervals.as_dict()) if intervals is not None else None,
+                   solver=SolverStatus(fit.optimizer, fit.stop, int(fit.evaluations)),
                    records=list(device.tests))
 
     def to_dict(self) -> dict:

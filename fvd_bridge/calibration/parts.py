@@ -1,13 +1,15 @@
 """The parts of a calibration's result, as small frozen records: ``TestFit``
 (one test it was fitted on), ``RecordSource`` (where a test's record came
-from and how it was read) and ``RunStats`` (the statistics over its seeded
-runs).  ``schema`` writes and reads them as the file's blocks."""
+from and how it was read), ``RunStats`` (the statistics over its seeded
+runs), ``BootstrapIntervals`` (its parameters' intervals, an
+``Interval`` each) and ``SolverStatus`` (how its search ended).  ``schema`` writes and reads them as the file's blocks."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
 
 from ..errors import InputError
+from ..fit.layout import SEP
 
 #: the keys of a test's block in the calibration file, in the order written
 TEST_KEYS = ("name", "weight", "of", "range", "record", "parameters")
@@ -127,3 +129,89 @@ class RunStats:
             return None if x is None else tuple(float(v) for v in list(x)[:n])
 
         return cls(float(given["of_mean"]), float(given["of_sigma"]), vector("p_mean"), vector("p_sigma"))
+
+
+#: how the intervals were computed (the file's 'intervals.method')
+INTERVALS_METHOD = "bootstrap of the measurement chain (fit.intervals)"
+
+
+@dataclass(frozen=True)
+class Interval:
+    """One quantity's bootstrap spread, in its unit: the 95% interval
+    ``ci95`` (lower, upper), the standard error ``stderr`` and the bias
+    (the replicates' mean minus the estimate; None: not recorded)."""
+
+    ci95: tuple
+    stderr: float | None = None
+    bias: float | None = None
+
+    @classmethod
+    def from_dict(cls, block: dict) -> "Interval":
+        """An interval from its block {ci95, stderr[, bias]}."""
+        return cls(tuple(float(x) for x in block["ci95"]), block.get("stderr"), block.get("bias"))
+
+
+@dataclass(frozen=True)
+class BootstrapIntervals:
+    """A calibration's parameter intervals (``fit.intervals``): ``replicates``
+    drawn; per fitted column ('C', 'C@TEST' for a per-test one) and per
+    derived quantity an ``Interval``; the correlation over the replicates
+    {names, matrix} (None: not recorded); what is ``not_identified`` (one
+    line each); ``noise_of``: the model's mean OF on the replicates (what
+    noise alone gives); ``note``: why the intervals count the noise only."""
+
+    replicates: int
+    parameters: dict = field(default_factory=dict)
+    derived: dict = field(default_factory=dict)
+    correlation: dict | None = None
+    not_identified: tuple = ()
+    noise_of: float | None = None
+    note: str = ""
+    method: str = INTERVALS_METHOD
+
+    @classmethod
+    def from_dict(cls, given) -> "BootstrapIntervals | None":
+        """From ``fit.intervals.Intervals.as_dict()`` or a file's blocks
+        gathered (``schema``); None from None or {} (no intervals)."""
+        if given is None or isinstance(given, BootstrapIntervals):
+            return given
+        if not given:
+            return None
+        return cls(int(given.get("replicates") or 0),
+                   {n: Interval.from_dict(e) for n, e in (given.get("parameters") or {}).items()},
+                   {n: Interval.from_dict(e) for n, e in (given.get("derived") or {}).items()},
+                   given.get("correlation"), tuple(given.get("not_identified") or ()),
+                   given.get("noise_of"), str(given.get("note") or ""), str(given.get("method") or INTERVALS_METHOD))
+
+    def of_parameter(self, name: str) -> dict:
+        """The file's entry of one parameter: {stderr, ci95[, per_test_ci95:
+        {TEST: ci95}]} (its per-test columns' too), or {}."""
+        if name not in self.parameters:
+            return {}
+        own = self.parameters[name]
+        out = {"stderr": own.stderr, "ci95": list(own.ci95)}
+        per = {n.split(SEP)[1]: list(i.ci95) for n, i in self.parameters.items() if n.startswith(name + SEP)}
+        return {**out, "per_test_ci95": per} if per else out
+
+
+@dataclass(frozen=True)
+class SolverStatus:
+    """How the search of the calibration's best run ended: its ``optimizer``,
+    why it stopped (``stop``: the search's words, e.g. 'local: 1 basin(s)
+    from 3 start(s); solver: cost settled') and the parameter sets it
+    evaluated (``evaluations``, its nested and widened rounds included)."""
+
+    optimizer: str
+    stop: str = ""
+    evaluations: int = 0
+
+    @classmethod
+    def from_dict(cls, block) -> "SolverStatus | None":
+        """From the file's 'solver' block (None: not recorded, a file written before it)."""
+        if not block:
+            return None
+        return cls(str(block.get("optimizer") or ""), str(block.get("stop") or ""), int(block.get("evaluations") or 0))
+
+    def as_dict(self) -> dict:
+        """The file's block: {optimizer, stop, evaluations}."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}

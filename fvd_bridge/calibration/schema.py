@@ -28,6 +28,7 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
     record:                              # provenance of the (first) calibration record
       name, file, format, samples, dt [s], columns {t, d, F[, v]}, window,
       source_units {t, d, F[, v]}, velocity {method, ...}, peaks {F [kN], v [mm/s], d [mm]}
+    solver: {optimizer, stop, evaluations}   # how the best run's search ended (0.4: files before lack it)
     settings: {...}                      # optimizer, bounds, seed, plugins: [{file, sha256}], ...
     warnings: [...]
 
@@ -48,7 +49,7 @@ from ..catalog import catalog_for, plugin_files, recorded_plugins
 from ..errors import InputError
 from ..fit.layout import SEP
 from ..io.staging import plain
-from .parts import Peaks, RecordSource, RunStats, TestFit
+from .parts import BootstrapIntervals, Peaks, RecordSource, RunStats, SolverStatus, TestFit
 
 SCHEMA_VERSION = 3
 READABLE_SCHEMAS = (1, 2, 3)
@@ -77,12 +78,11 @@ def to_dict(cal) -> dict:
                      **interval_entry(cal, p.name), **({"per_test": p.per_test} if p.per_test else {})}
             for p, m, s in zip(cal.params.values(), p_mean, p_sigma)},
         "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
-                           **{k: v for k, v in (cal.intervals.get("derived") or {}).get(name, {}).items()
-                              if k in ("stderr", "ci95")}}
+                           **_derived_interval(cal, name)}
                     for name, (value, unit) in cal.derived().items()},
-        **({"intervals": {k: plain(cal.intervals.get(k)) for k in ("replicates", "method", "noise_of", "note",
-                                                                       "not_identified")},
-            "correlation": plain(cal.intervals["correlation"])} if cal.intervals else {}),
+        **({"intervals": {k: plain(getattr(cal.intervals, k)) for k in ("replicates", "method", "noise_of", "note",
+                                                                            "not_identified")},
+            "correlation": plain(cal.intervals.correlation)} if cal.intervals else {}),
         "of": float(cal.of),
         "of_mean_over_runs": float(runs.of_mean),
         "of_sigma_over_runs": float(runs.of_sigma),
@@ -90,6 +90,7 @@ def to_dict(cal) -> dict:
         "tests": plain([t.as_dict() for t in cal.tests]),
         "tested_range": plain(cal.tested),
         "record": plain(cal.record.as_dict()),
+        **({"solver": plain(cal.solver.as_dict())} if cal.solver is not None else {}),
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
         "warnings": [str(w) for w in cal.warnings],
     }
@@ -97,14 +98,13 @@ def to_dict(cal) -> dict:
 
 def interval_entry(cal, name: str) -> dict:
     """{stderr, ci95} of one parameter (with its per-test columns' ci95), or {}."""
-    given = (cal.intervals.get("parameters") or {})
-    if name not in given:
-        return {}
-    out = {"stderr": given[name]["stderr"], "ci95": given[name]["ci95"]}
-    per = {n.split(SEP)[1]: v["ci95"] for n, v in given.items() if n.startswith(name + SEP)}
-    if per:
-        out["per_test_ci95"] = per
-    return out
+    return cal.intervals.of_parameter(name) if cal.intervals else {}
+
+
+def _derived_interval(cal, name: str) -> dict:
+    """{stderr, ci95} of one derived quantity, or {}."""
+    given = cal.intervals.derived.get(name) if cal.intervals else None
+    return {} if given is None else {"stderr": given.stderr, "ci95": list(given.ci95)}
 
 
 def read(path: str, catalog=None, plugins=()) -> dict:
@@ -135,7 +135,8 @@ def read(path: str, catalog=None, plugins=()) -> dict:
     return {"model": model, "values": values, "of": of, "bounds": bounds, "record": record,
             "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
             "path": os.path.abspath(path), "tests": _tests(path, data.get("tests"), record, of),
-            "device": str(data.get("device") or record.name or ""), "intervals": _intervals(data)}
+            "device": str(data.get("device") or record.name or ""), "intervals": _intervals(data),
+            "solver": SolverStatus.from_dict(data.get("solver"))}
 
 
 def _tests(path: str, given, record: RecordSource, of: float) -> tuple:
@@ -158,16 +159,17 @@ def record_provenance(record) -> RecordSource:
                         peaks=Peaks(scales["F"], scales["v"], scales["d"]))
 
 
-def _intervals(data: dict) -> dict:
-    """The intervals of a loaded file, in Intervals.as_dict()'s form ({}: none)."""
+def _intervals(data: dict) -> BootstrapIntervals | None:
+    """The intervals of a loaded file (None: none)."""
     if not data.get("intervals"):
-        return {}
+        return None
     params = {n: {"stderr": e["stderr"], "ci95": e["ci95"]} for n, e in data["parameters"].items() if "ci95" in e}
     for n, e in data["parameters"].items():
         for test, ci in (e.get("per_test_ci95") or {}).items():
             params[f"{n}{SEP}{test}"] = {"stderr": None, "ci95": ci}
     derived = {n: d for n, d in (data.get("derived") or {}).items() if "ci95" in d}
-    return {**data["intervals"], "parameters": params, "derived": derived, "correlation": data.get("correlation")}
+    return BootstrapIntervals.from_dict({**data["intervals"], "parameters": params, "derived": derived,
+                                         "correlation": data.get("correlation")})
 
 
 def _read_yaml(path: str):

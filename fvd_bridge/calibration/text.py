@@ -32,6 +32,8 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
                      f"sigma {cal.runs.of_sigma:.2g}{why}")
     if cal.settings.get("optimizer"):
         lines.append(f"    optimizer:     {cal.settings['optimizer']}, seed {cal.settings.get('seed')}")
+    if cal.solver is not None:
+        lines.append(f"    search:        {cal.solver.evaluations} evaluations; {cal.solver.stop}")
     lines += [f"    {cal.tested_text()}", "[[Variables]]"]
     for p in cal.params.values():
         bounds = "" if None in p.bounds or p.fixed else f"  (bounds [{p.bounds[0]:.4g}, {p.bounds[1]:.4g}])"
@@ -42,7 +44,8 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
         lines += [f"    {name} = {value:.6g} {unit}" for name, (value, unit) in cal.derived().items()]
     if not cal.intervals:
         lines.append("    (no intervals: calibrate with intervals > 0)")
-    lines += [f"    not identified: {line}" for line in cal.intervals.get("not_identified") or []]
+    else:
+        lines += [f"    not identified: {line}" for line in cal.intervals.not_identified]
     corr = cal.correlation
     if corr:
         names = list(corr)
@@ -61,7 +64,7 @@ def interval_lines(cal) -> list[str]:
     parameter and derived quantity, then what is not identified; [] without intervals."""
     if not cal.intervals:
         return []
-    given = cal.intervals["parameters"]
+    given, derived = cal.intervals.parameters, cal.derived()
     values = {**cal.named(), **{f"{n}{SEP}{t.name}": v for t in cal.tests for n, v in t.parameters.items()}}
     units = dict(zip(cal.model.names, cal.model.units))
 
@@ -69,11 +72,11 @@ def interval_lines(cal) -> list[str]:
         return "" if units.get(name.split(SEP)[0], "-") == "-" else f" {units[name.split(SEP)[0]]}"
 
     out = [f"{n} = {rounded(values[n])}{unit(n)} (fixed by the caller)"
-           if e["ci95"][0] == e["ci95"][1] else
-           f"{n} = {rounded(values[n], e.get('stderr'))}{unit(n)}, 95% {interval(*e['ci95'], e.get('stderr'))}"
-           + (f" (stderr {rounded(e['stderr'], digits=2)})" if e.get("stderr") is not None else "")
+           if e.ci95[0] == e.ci95[1] else
+           f"{n} = {rounded(values[n], e.stderr)}{unit(n)}, 95% {interval(*e.ci95, e.stderr)}"
+           + (f" (stderr {rounded(e.stderr, digits=2)})" if e.stderr is not None else "")
            for n, e in given.items() if n in values]
-    out += [f"{n} = {rounded(d['value'], d['stderr'])} {d['unit']}, 95% {interval(*d['ci95'], d['stderr'])} "
-            f"(stderr {rounded(d['stderr'], digits=2)})" for n, d in (cal.intervals.get("derived") or {}).items()]
-    out += [f"not identified: {line}" for line in cal.intervals.get("not_identified") or []]
-    return out + ([f"note: {cal.intervals['note']}"] if cal.intervals.get("note") else [])
+    out += [f"{n} = {rounded(derived[n][0], d.stderr)} {derived[n][1]}, 95% {interval(*d.ci95, d.stderr)} "
+            f"(stderr {rounded(d.stderr, digits=2)})" for n, d in cal.intervals.derived.items() if n in derived]
+    out += [f"not identified: {line}" for line in cal.intervals.not_identified]
+    return out + ([f"note: {cal.intervals.note}"] if cal.intervals.note else [])

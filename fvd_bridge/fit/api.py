@@ -84,7 +84,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
         pfit = fit_model(model, device, bounds, optimizer, seed, settings, substeps, None, overrides, None, mask,
                          (), True, widen)
-        start = layout.expand(dict(zip(pfit.names, pfit.params)))
+        start = layout.expand(pfit.named())
         evals, widened = pfit.evaluations, dict(pfit.widened)
     elif start is None and nested and model.effects:
         parent = model.without_effect(model.effects[-1].name)

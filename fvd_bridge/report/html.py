@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from html import escape
 
-from ..calibration import schema
 from .numbers import cell, interval, rounded, small_share, with_unit
 
 #: a text cell longer than this many characters is a note: it may wrap
@@ -49,7 +48,7 @@ def parameter_rows(cal) -> list:
         unit = "" if p.unit == "-" else p.unit
         first = f" ({next(iter(p.per_test))})" if len(p.per_test) > 1 else ""
         rows.append([p.name + first, rounded(p.value, p.stderr), unit, rounded(p.stderr, digits=2), ci, bounds])
-        per_test_ci = schema.interval_entry(cal, p.name).get("per_test_ci95") or {}
+        per_test_ci = (cal.intervals.of_parameter(p.name).get("per_test_ci95") if cal.intervals else None) or {}
         for test, value in list(p.per_test.items())[1:]:
             lo_hi = per_test_ci.get(test)
             rows.append([f"{p.name} ({test})", rounded(value, p.stderr), unit, "",

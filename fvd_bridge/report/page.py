@@ -99,7 +99,7 @@ def _floor(records: dict, cal=None) -> float | None:
     its interval note and the terminal give) where it has one, else the
     records' force noise alone (``fit.noise_floor``, the mean over the tests
     as the OF is); None without either."""
-    noise_of = ((cal.intervals or {}).get("noise_of") if cal is not None else None)
+    noise_of = cal.intervals.noise_of if cal is not None and cal.intervals else None
     if noise_of is not None and np.isfinite(noise_of) and noise_of > 0:
         return float(noise_of)
     floors = [noise_floor(force_noise(rec.F), rec.F) for rec in records.values() if rec is not None]
