@@ -46,7 +46,7 @@ def test_the_exact_model_generalises_and_law1_does_not(fitted, tmp_path):
     of = {m["model"]: m["of"] for m in report["models"]}
     cal = Calibration.load(files[1])
     # the floor of the record: its force and displacement noise through the model
-    floor = input_noise_floor(cal.model, cal.values, read_record(other))["floor"]
+    floor = input_noise_floor(cal.model, cal.values, read_record(other)).floor
     assert of["2"] < 1.5 * floor and of["1"] > 5 * of["2"]
     assert (tmp_path / "c" / "dev_compare.png").is_file()
     page = (tmp_path / "c" / "report.html").read_text()  # the same ranking, in the report

@@ -12,6 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from conftest import CLI, PLUGIN, REPO, cli_env
@@ -201,6 +202,7 @@ def test_a_diagnosis_keeps_what_it_was_run_on(protocol, lab_dir):
     settings and catalog given, and the record's noise floor of each test;
     its parameters and units are its fit's, in the fit's order."""
     from fvd_bridge.diagnose.core import DiagnosisInputs
+    from fvd_bridge.diagnose.floor import NoiseFloor
 
     rec = rig_record(protocol, lab_dir, "inputs", seed=7)
     cat = catalog()
@@ -208,7 +210,13 @@ def test_a_diagnosis_keeps_what_it_was_run_on(protocol, lab_dir):
     i = diag.inputs
     assert isinstance(i, DiagnosisInputs)
     assert i.record is rec and i.seed == 4 and i.settings is SETTINGS and i.catalog is cat
-    assert len(i.floors) == 1 and i.floors[0]["floor"] == diag.floor
+    assert len(i.floors) == 1 and i.floors[0].floor == diag.floor
+    # its noise floor is a NoiseFloor: the force-only part is s sqrt(2/pi) / std(F) (floor.py)
+    n = diag.noise
+    assert isinstance(n, NoiseFloor) and n.sigma_F == diag.noise_std and n.sigma_d > 0 and n.sigma_v > 0
+    assert n.force_floor == pytest.approx(n.sigma_F * np.sqrt(2 / np.pi) / np.std(rec.F), rel=1e-12)
+    assert diag.as_dict()["noise"] == dataclasses.asdict(n) and diag.parent is None and diag.tests == []
+    assert [r.how for r in diag.base_history] == ["fitted as calibrate"] and diag.base_history[0].of == diag.of
     with pytest.raises(dataclasses.FrozenInstanceError):
         i.seed = 5
     assert diag.params() == {n: p.value for n, p in diag.fit.parameters.items()}
@@ -340,8 +348,8 @@ def test_the_floor_is_the_records_and_what_the_true_model_reaches(protocol, lab_
     law2 = catalog().model("2")
     truth_of = evaluate_params(law2, rec, [C, ALPHA])
     fitted = fit_model(law2, rec, seed=0)
-    floor = record_floor(law2, fitted.params, rec)["floor"]
+    floor = record_floor(law2, fitted.params, rec).floor
     assert 0.8 * truth_of < floor < 1.25 * truth_of
     gap = catalog().model("2+gap")
     with_gap = fit_model(gap, rec, seed=0)
-    assert record_floor(gap, with_gap.params, rec)["floor"] == pytest.approx(floor, rel=0.02)
+    assert record_floor(gap, with_gap.params, rec).floor == pytest.approx(floor, rel=0.02)

@@ -115,7 +115,7 @@ def test_no_effect_nothing_suggested_on_a_lab_record(protocol_name, disp_noise, 
     assert diag.suggestions == [], format_diagnosis(diag)
     assert diag.of <= 2.0 * diag.floor
     # the floor counts the displacement noise: above the force-only floor
-    assert diag.floor > diag.noise["force_floor"]
+    assert diag.floor > diag.noise.force_floor
 
 
 @pytest.mark.slow
@@ -251,7 +251,7 @@ def test_real_friction_damper_credits_no_switched_off_effect(friction_damper):
     # a moving mass of 3,536 kg on this 16 kN device (what an earlier ladder added) is implausible
     from fvd_bridge.diagnose.sizes import effect_size
 
-    mass = effect_size(catalog().effect("inertia"), {"m": 3536.0}, rec, diag.noise["sigma_d"])
+    mass = effect_size(catalog().effect("inertia"), {"m": 3536.0}, rec, diag.noise.sigma_d)
     assert not mass.plausible and "kg per kN" in mass.why
 
 

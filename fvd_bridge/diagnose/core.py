@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
+from typing import NamedTuple
 
 import numpy as np
 
@@ -34,10 +35,11 @@ from .. import timing
 from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..fit.layout import Layout
+from ..fit.result import Parent
 from ..records.device import as_device
 from . import where as where_mod
 from . import agree, zero as zero_mod
-from .floor import record_floor
+from .floor import NoiseFloor, record_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
 
 #: rounds of "a refit found a lower base: polish the base, refit again"
@@ -61,6 +63,21 @@ def diagnose_settings(pop: int | None = None, gens: int | None = None):
     return settings_for(DEFAULT_OPTIMIZER, pop, gens or DIAGNOSE_GENS)
 
 
+class BaseRound(NamedTuple):
+    """One round of a diagnosis' base fit: ``how`` it was reached, its ``of`` (eq. 18)."""
+
+    how: str
+    of: float
+
+
+class TestOF(NamedTuple):
+    """One test of a diagnosed device: its ``name`` and the base fit's ``of`` (eq. 18) on it."""
+
+    __test__ = False  # a data record, not a pytest class
+    name: str
+    of: float
+
+
 @dataclass(frozen=True)
 class DiagnosisInputs:
     """What a diagnosis was run on: ``Diagnosis.ladder()`` and ``accept()`` go on from there."""
@@ -74,7 +91,7 @@ class DiagnosisInputs:
     catalog: object
     """The Catalog its model and candidate effects came from."""
     floors: list
-    """Per test, its noise floor (``floor.record_floor``: OF, sigma_F [kN], sigma_d [mm], sigma_v [mm/s])."""
+    """Per test, its NoiseFloor (``floor.record_floor``)."""
 
 
 @dataclass
@@ -91,10 +108,10 @@ class Diagnosis:
     where: where_mod.Where
     candidates: list = field(default_factory=list)
     wall_s: float = 0.0
-    parent: tuple | None = None  # (spec, OF) of the model without the last effect
-    noise: dict = field(default_factory=dict)  # floor.input_noise_floor's numbers
-    base_history: list = field(default_factory=list)  # [(how, OF)] of the base fit's rounds
-    tests: list = field(default_factory=list)  # [(test name, OF)] of a device's tests
+    parent: Parent | None = None  # the model without the last effect: its spec and OF
+    noise: NoiseFloor | None = None  # the record's noise floor (a device: the weighted mean of its tests')
+    base_history: list = field(default_factory=list)  # a BaseRound per round of the base fit
+    tests: list = field(default_factory=list)  # a TestOF per test of a device (one test: none)
     focus: object = None  # the Record analysed (a device: the test the base misses most)
     per_test: tuple = ()  # parameters fitted per test (--per-test)
     agreement: agree.Agreement | None = None  # do the tests agree with one parameter set (several tests)
@@ -238,13 +255,13 @@ class Diagnosis:
                            for c in self.suggestions],
             "record": self.record,
             "at_noise_floor": self.at_floor,
-            "parent": None if self.parent is None else {"model": self.parent[0], "of": self.parent[1]},
+            "parent": None if self.parent is None else {"model": self.parent.spec, "of": self.parent.of},
             "verdict": self.verdict(),
             "noise_std_kN": self.noise_std,
-            "noise": self.noise,
+            "noise": None if self.noise is None else self.noise.as_dict(),
             "noise_margin_of": self.judge.margin,
-            "base_history": [{"how": how, "of": of} for how, of in self.base_history],
-            "tests": [{"name": name, "of": of} for name, of in self.tests],
+            "base_history": [r._asdict() for r in self.base_history],
+            "tests": [t._asdict() for t in self.tests],
             "focus": getattr(self.focus, "name", self.record),
             "per_test": list(self.per_test),
             "agreement": None if self.agreement is None else self.agreement.as_dict(),
@@ -304,8 +321,8 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     the model (when ``candidates``), converging the base (module docstring).
 
     ``parent``: for a model with effects, how far the error fell from the
-    model without its last effect: True fits that model too, a (spec, OF)
-    pair is taken as given, None skips it.  ``progress(message)`` receives
+    model without its last effect: True fits that model too, a Parent
+    (spec, OF) is taken as given, None skips it.  ``progress(message)`` receives
     one line per fit.  ``per_test``: parameters fitted per test (a Device).
     ``floors``: per test, its noise floor (``floor.record_floor``) when an
     earlier diagnosis of the same record computed it."""
@@ -322,15 +339,15 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
         with timing.stage("  base fit"):
             base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],
                                  settings=settings_for(DEFAULT_OPTIMIZER), per_test=per_test)
-        history = [("fitted as calibrate", float(base_fit.of))]
+        history = [BaseRound("fitted as calibrate", float(base_fit.of))]
         say(f"fitted {model.spec}: OF {base_fit.of:.5g} ({base_fit.wall_s:.1f} s)")
     else:
-        history = [("given", float(base_fit.of))]
+        history = [BaseRound("given", float(base_fit.of))]
         with timing.stage("  base fit"):
             base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
                                  start=base_fit.params, per_test=per_test)
-        if base_fit.of < history[0][1] * (1.0 - BASE_TOL):
-            history.append(("converged from the given fit", float(base_fit.of)))
+        if base_fit.of < history[0].of * (1.0 - BASE_TOL):
+            history.append(BaseRound("converged from the given fit", float(base_fit.of)))
     found: list = []
     agreement = None
     if candidates:
@@ -347,7 +364,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
             params, of = polish_model(model, record, start, per_test=per_test)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
             base_fit = replace(base_fit, params=params, of=of)
-            history.append(("lowered by a candidate's refit", float(of)))
+            history.append(BaseRound("lowered by a candidate's refit", float(of)))
             keep = {c.effect: c for c in found if not c.replaces}
     split = agree.per_test_params(model, device, base_fit.params, per_test)
     test_of = [evaluate_params(model, t, p) for t, p in zip(device.tests, split)]
@@ -356,19 +373,19 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     F_model = model.force(focus, split[k_focus][None, :])[0]
     with timing.stage("  input-noise floor"):  # the records', computed once for every rung of a ladder
         noises = floors or [record_floor(model, p, t, seed) for t, p in zip(device.tests, split)]
-    noise = dict(noises[k_focus])
-    noise["floor"] = float(np.dot(device.weights, [n["floor"] for n in noises]))
-    noise["force_floor"] = float(np.dot(device.weights, [n["force_floor"] for n in noises]))
-    judge = Judge(noise["floor"], device.n, noise["force_floor"])
-    diag = Diagnosis(device.name, model, base_fit, F_model, noise["sigma_F"], judge,
+    noise = replace(noises[k_focus], floor=float(np.dot(device.weights, [n.floor for n in noises])),
+                    force_floor=float(np.dot(device.weights, [n.force_floor for n in noises])))
+    judge = Judge(noise.floor, device.n, noise.force_floor)
+    diag = Diagnosis(device.name, model, base_fit, F_model, noise.sigma_F, judge,
                      where_mod.analyse(focus, F_model), noise=noise, base_history=history,
-                     tests=list(zip(device.test_names, test_of)) if len(device.tests) > 1 else [], focus=focus,
+                     tests=[TestOF(*t) for t in zip(device.test_names, test_of)] if len(device.tests) > 1 else [],
+                     focus=focus,
                      per_test=per_test)
     if candidates and len(device.tests) > 1:  # before the effects: do the tests agree?
         say("do the tests agree? each law parameter freed per test, refitted from the base:")
         with timing.stage("  per-test check"):
             agreement = agree.check(model, base_fit, device, judge, per_test, say)
-    diag.candidates = (assess(found, model, base_fit, device, judge, noise["sigma_d"], focus, per_test)
+    diag.candidates = (assess(found, model, base_fit, device, judge, noise.sigma_d, focus, per_test)
                        if found else [])
     if diag.candidates:  # an effect that acts as an offset counts beyond the tests' force zero only
         with timing.stage("  the tests' force zero"):
@@ -377,14 +394,14 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     agree.advise(agreement, diag.candidates)
     diag.agreement = agreement
     if parent is True and model.effects and base_fit.parent:  # the nested fit the base started from
-        parent = (base_fit.parent.spec, float(base_fit.parent.of))
+        parent = base_fit.parent
     elif parent is True and model.effects:  # fitted as calibrate fits it: the best base available
         parent_model = model.without_effect(model.effects[-1].name)
         pfit = fit_model(parent_model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=[seed, 0, 0, 0],
                          settings=settings_for(DEFAULT_OPTIMIZER), per_test=agree.free(parent_model, per_test))
-        parent = (parent_model.spec, float(pfit.of))
+        parent = Parent(parent_model.spec, float(pfit.of))
         say(f"fitted {parent_model.spec} (for comparison): OF {pfit.of:.5g} ({pfit.wall_s:.1f} s)")
-    diag.parent = parent if isinstance(parent, tuple) else None
+    diag.parent = Parent(*parent) if isinstance(parent, tuple) else None
     diag.wall_s = time.perf_counter() - t0
     diag.inputs = DiagnosisInputs(record, seed, settings, catalog, noises)
     return diag

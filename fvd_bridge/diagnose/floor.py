@@ -34,6 +34,7 @@ floor" would mean different things for different models.
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -53,16 +54,32 @@ def displacement_noise(record) -> float:
     return float(value) if value is not None else force_noise(record.d)
 
 
-def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_DRAWS, F_ref=None) -> dict:
-    """{'floor': OF_floor, 'force_floor': the force-only floor, 'sigma_F' [kN],
-    'sigma_d' [mm], 'sigma_v' [mm/s] (median velocity noise)} of ``model``
-    at ``params`` on ``record`` (module docstring); ``F_ref`` its force on
-    the record, when already computed."""
+@dataclass(frozen=True)
+class NoiseFloor:
+    """A record's noise floor (module docstring): ``floor``, the OF (eq. 18)
+    its force and displacement noise give through the model; ``force_floor``,
+    the force noise's alone; the noise std of the force ``sigma_F`` [kN],
+    the displacement ``sigma_d`` [mm] and the derived velocity ``sigma_v``
+    [mm/s] (the median over the record)."""
+
+    floor: float
+    force_floor: float
+    sigma_F: float
+    sigma_d: float
+    sigma_v: float = 0.0
+
+    def as_dict(self) -> dict:
+        """{floor, force_floor, sigma_F, sigma_d, sigma_v} (the --json report's 'noise')."""
+        return dataclasses.asdict(self)
+
+
+def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_DRAWS, F_ref=None) -> NoiseFloor:
+    """The NoiseFloor of ``model`` at ``params`` on ``record`` (module
+    docstring); ``F_ref`` its force on the record, when already computed."""
     sigma_F = force_noise(record.F)
     sigma_d = displacement_noise(record)
     force_only = noise_floor(sigma_F, record.F)
-    out = {"floor": force_only, "force_floor": force_only, "sigma_F": float(sigma_F), "sigma_d": float(sigma_d),
-           "sigma_v": 0.0}
+    out = NoiseFloor(force_only, force_only, float(sigma_F), float(sigma_d))
     if not np.isfinite(sigma_F) or not np.isfinite(sigma_d):
         return out
     p = np.asarray(params, dtype=float)[None, :]
@@ -84,12 +101,10 @@ def input_noise_floor(model, params, record, seed: int = 0, draws: int = FLOOR_D
         F_new = model.force(perturbed, p)[0] + sigma_F * rng.standard_normal(record.n)
         ofs.append(float(objective(record.F, record.F + (F_new - F_ref), record.t)))
         dv.append(float(np.median(np.abs(v_new - record.v))) / 0.6745)
-    out["floor"] = float(np.mean(ofs))
-    out["sigma_v"] = float(np.median(dv))
-    return out
+    return dataclasses.replace(out, floor=float(np.mean(ofs)), sigma_v=float(np.median(dv)))
 
 
-def record_floor(model, params, record, seed: int = 0) -> dict:
+def record_floor(model, params, record, seed: int = 0) -> NoiseFloor:
     """``input_noise_floor`` of ``record`` through ``model``'s law alone at
     its law parameters (module docstring): the record's floor, the same for
     every model with that law."""

@@ -15,6 +15,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+from ..fit.result import Parent
 from .core import Diagnosis, diagnose
 
 
@@ -82,7 +83,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         # the new model is at the floor is its own diagnosis's to judge, with its own margin)
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
         diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not last,
-                        progress=progress, parent=(prev.spec, prev.of), catalog=catalog, per_test=per_test,
+                        progress=progress, parent=Parent(prev.spec, prev.of), catalog=catalog, per_test=per_test,
                         floors=prev.inputs.floors)
         lad.diagnoses.append(diag)
         lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),

@@ -32,9 +32,9 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
     lines = [f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g} "
              f"({diag.of / diag.floor:.1f}x the noise floor {diag.floor:.4g})" if diag.floor > 0 else
              f"diagnose {record_label or diag.record} with model {diag.spec}: OF {diag.of:.4g}",
-             f"noise floor: force noise {diag.noise_std:.3g} kN alone gives {n.get('force_floor', diag.floor):.4g}; "
-             f"with displacement noise {n.get('sigma_d', 0.0):.3g} mm (velocity noise "
-             f"{n.get('sigma_v', 0.0):.3g} mm/s) through the model: {diag.floor:.4g}",
+             f"noise floor: force noise {diag.noise_std:.3g} kN alone gives {n.force_floor:.4g}; "
+             f"with displacement noise {n.sigma_d:.3g} mm (velocity noise "
+             f"{n.sigma_v:.3g} mm/s) through the model: {diag.floor:.4g}",
              f"parameters: {_params(diag.fit)}"]
     if diag.tests:
         lines.append(f"tests of device {diag.record} (fitted together"
@@ -44,7 +44,7 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
     if len(diag.base_history) > 1:
         lines.append("base fit: " + "; ".join(f"{how} OF {of:.5g}" for how, of in diag.base_history))
     if diag.parent is not None:
-        pspec, pof = diag.parent
+        pspec, pof = diag.parent.spec, diag.parent.of
         lines.append(f"error fell from OF {pof:.4g} ({pspec}) to {diag.of:.4g}: "
                      f"{(pof - diag.of) / pof:.0%} lower" if pof > diag.of else
                      f"no gain over {pspec} (OF {pof:.4g})")
