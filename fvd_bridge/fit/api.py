@@ -16,7 +16,6 @@ from .layout import Layout
 from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, data_start, nested_start, wider_bounds
 from .objective import objective_weights
 from .result import FitResult, Parent
-from .search import Evaluations, Search
 from .space import Space
 
 OPTIMIZERS = ("local", "local+de", "de", "ga", "ga+polish")
@@ -134,9 +133,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     if local and x0 is not None and local_search:
         found = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0, layout.columns_of(model.stepped))
     elif local and x0 is not None:
-        count = Evaluations(1)
-        x, of = polish(evaluate, x0[0], float(evaluate(x0[:1])[0]), WIDEN_EVALS, count)
-        found = Search(x, of, (of,), count.n, "Nelder-Mead from the widened round's start")
+        found = polish(evaluate, x0[0], float(evaluate(x0[:1])[0]), WIDEN_EVALS)
+        found = replace(found, evaluations=found.evaluations + 1, stop=f"{found.stop}, from the widened round's start")
     elif optimizer == "de":
         found = run_de(evaluate, space.n, rng, settings, on_generation, None if x0 is None else x0[0])
     elif local_search:
@@ -145,9 +143,8 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     else:
         found = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
-            count = Evaluations(found.evaluations)
-            x, of = polish(evaluate, found.x, found.of, 4000, count)
-            found = Search(x, of, found.history + (of,), count.n, found.stop + ", then Nelder-Mead")
+            polished = polish(evaluate, found.x, found.of, 4000)
+            found = replace(found.then(polished), stop=f"{found.stop}, then Nelder-Mead")
     x, of = found.x, found.of
     params = space.to_params(x)
     if p0 is not None:  # the start itself, exactly (not through the unit cube)

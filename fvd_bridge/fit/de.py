@@ -66,17 +66,19 @@ def run_de(evaluate, n: int, rng: np.random.Generator, s: DESettings = DESetting
             else f"DE: {res.message.rstrip('.')} after {res.nit} generations")
     x, fx = np.clip(res.x, 0.0, 1.0), float(res.fun)
     if s.polish:
-        x, fx = polish(evaluate, x, fx, s.polish_evals, count)
+        polished = polish(evaluate, x, fx, s.polish_evals)
+        x, fx = polished.x, polished.of
+        count.add(polished.evaluations)
         history.append(fx)
         stop += ", then Nelder-Mead"
     return Search(x, fx, tuple(history), count.n, stop)
 
 
-def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, count: Evaluations, step: float = 0.02):
-    """Nelder-Mead from x0 inside the unit cube (points outside are clipped),
-    its first simplex ``step`` wide: (x, OF), never worse than (x0, f0)."""
+def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, step: float = 0.02) -> Search:
+    """Nelder-Mead from x0 (OF f0) inside the unit cube (points outside are
+    clipped), its first simplex ``step`` wide, at most ``max_evals``
+    evaluations: its Search, never worse than (x0, f0)."""
     def single(x):
-        count.add(1)
         return float(evaluate(np.clip(x, 0.0, 1.0)[None, :])[0])
 
     simplex = [x0] + [np.clip(x0 + np.eye(x0.size)[i] * (step if x0[i] < 0.5 else -step), 0, 1)
@@ -84,5 +86,5 @@ def polish(evaluate, x0: np.ndarray, f0: float, max_evals: int, count: Evaluatio
     res = minimize(single, x0, method="Nelder-Mead",
                    options={"maxfev": max_evals, "xatol": 1e-9, "fatol": 1e-12,
                             "initial_simplex": np.array(simplex), "adaptive": True})
-    x = np.clip(res.x, 0.0, 1.0)
-    return (x, float(res.fun)) if res.fun < f0 else (x0, f0)
+    x, of = (np.clip(res.x, 0.0, 1.0), float(res.fun)) if res.fun < f0 else (x0, f0)
+    return Search(x, of, (of,), int(res.nfev), f"Nelder-Mead: {res.message.rstrip('.')}")

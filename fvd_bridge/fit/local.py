@@ -265,7 +265,9 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     stop = (f"local: {len(ends)} basin(s) from {len(starts)} start(s); "
             f"{_solves_in_words(statuses)}")
     if s.polish_evals:
-        best_x, best_of = polish(evaluate, best_x, best_of, s.polish_evals, count, step=0.002)
+        polished = polish(evaluate, best_x, best_of, s.polish_evals, step=0.002)
+        best_x, best_of = polished.x, polished.of
+        count.add(polished.evaluations)
         history.append(best_of)
         stop += ", then Nelder-Mead"
     return Search(best_x, best_of, tuple(history), count.n, stop), ends
