@@ -45,7 +45,7 @@ def test_a_fixed_parameter_stays_and_the_others_are_fitted(law9_record):
     assert lo < off.params["C"].value < hi
 
 
-def test_start_values_and_names_that_do_not_exist(law9_record):
+def test_start_values_and_names_that_do_not_exist(law9_record, tmp_path):
     """A start far from the data's (C 3x, alpha 0.5x the free fit's) ends
     on the free fit's optimum; a name the model lacks is a ValueError in
     Python's words."""
@@ -55,6 +55,11 @@ def test_start_values_and_names_that_do_not_exist(law9_record):
     far = fb.calibrate(law9_record, "9", intervals=0,
                        start={"C": 3.0 * free.params["C"].value, "alpha": 0.5 * free.params["alpha"].value})
     assert far.of == pytest.approx(free.of, rel=2 * L1_TOLERANCE)
+    # each parameter says where the caller started it (None: the data's start), also once saved and read
+    assert far.params["C"].start == 3.0 * free.params["C"].value and far.params["beta"].start is None
+    assert free.params["C"].start is None
+    back = fb.Calibration.load(far.save(str(tmp_path / "far.yaml")))
+    assert back.params["alpha"].start == 0.5 * free.params["alpha"].value
     with pytest.raises(ValueError, match=r"^start=\{'K': 1\.0\}: model 9 has no parameter 'K'"):
         fb.calibrate(law9_record, "9", intervals=0, start={"K": 1.0})
     with pytest.raises(ValueError, match=r"^fixed=\{'K': 1\.0\}: model 9 has no parameter 'K'"):

@@ -62,15 +62,18 @@ class Calibration:
     @property
     def params(self) -> dict:
         """{name: FittedParameter}: value, unit, stderr, ci95, bounds, per-test
-        values, fixed (by the caller: lower bound == upper bound)."""
+        values, fixed (by the caller: lower bound == upper bound), the
+        caller's start value (``settings['start_values']``)."""
         bounds = self.bounds if self.bounds is not None else np.full((len(self.values), 2), np.nan)
+        starts = {name: float(v) for spec, name, v in self.settings.get("start_values") or []
+                  if spec in (None, self.spec)}
         out = {}
         for name, unit, value, (lo, hi) in zip(self.model.names, self.model.units, self.values, bounds):
             entry = self.intervals.of_parameter(name) if self.intervals else {}
             per_test = {t.name: t.parameters[name] for t in self.tests if name in t.parameters}
             out[name] = FittedParameter(name, float(value), unit, entry.get("stderr"),
                                         tuple(entry["ci95"]) if "ci95" in entry else None,
-                                        (num(lo), num(hi)), per_test, fixed=bool(lo == hi))
+                                        (num(lo), num(hi)), per_test, fixed=bool(lo == hi), start=starts.get(name))
         return out
 
     @property

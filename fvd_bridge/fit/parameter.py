@@ -13,7 +13,8 @@ class FittedParameter:
     None: not computed, as for a fit); the search ``bounds`` (lower, upper;
     None where unknown); ``per_test``: {test: value} of a parameter fitted
     per test; ``fixed``: held at its value by the caller (lower bound ==
-    upper bound)."""
+    upper bound); ``start``: the start value the caller gave (None: the
+    data's start)."""
 
     name: str
     value: float
@@ -23,6 +24,7 @@ class FittedParameter:
     bounds: tuple = (None, None)
     per_test: dict = field(default_factory=dict)
     fixed: bool = False
+    start: float | None = None
 
     def __float__(self) -> float:
         return float(self.value)
