@@ -198,7 +198,7 @@ class BootstrapIntervals:
 class SolverStatus:
     """How the search of the calibration's best run ended: its ``optimizer``,
     why it stopped (``stop``: the search's words, e.g. 'local: 1 basin(s)
-    from 3 start(s); solver: cost settled') and the parameter sets it
+    from 3 start(s); solves ended: cost settled 3') and the parameter sets it
     evaluated (``evaluations``, its nested and widened rounds included)."""
 
     optimizer: str
