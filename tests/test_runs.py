@@ -64,7 +64,8 @@ def test_command_line_and_api_are_one_engine(rec, tmp_path):
     assert written.values.tolist() == cal.values.tolist() and written.of == cal.of
     assert written.params["beta"].value == 150.0
     for name, entry in written.intervals.parameters.items():
-        assert (entry.ci95, entry.stderr) == (cal.intervals.parameters[name].ci95, cal.intervals.parameters[name].stderr)
+        given = cal.intervals.parameters[name]
+        assert (entry.ci95, entry.stderr) == (given.ci95, given.stderr)
     assert written.settings["runs_made"] == cal.settings["runs_made"] == FIRST_RUNS
     assert f"runs:          {FIRST_RUNS} of 5" in cal.report()
 

@@ -375,7 +375,8 @@ class Calibration:
                    bounds=np.asarray(fit.bounds, dtype=float)[:n], record=record_provenance(device.tests[0]),
                    settings=dict(settings or {}), warnings=list(warnings), runs=RunStats.from_dict(runs, n),
                    tests=tuple(tests),
-                   device=device.name, intervals=BootstrapIntervals.from_dict(intervals.as_dict()) if intervals is not None else None,
+                   device=device.name,
+                   intervals=None if intervals is None else BootstrapIntervals.from_dict(intervals.as_dict()),
                    solver=SolverStatus(fit.optimizer, fit.stop, int(fit.evaluations)),
                    records=list(device.tests))
 

@@ -1,8 +1,9 @@
 """The parts of a calibration's result, as small frozen records: ``TestFit``
 (one test it was fitted on), ``RecordSource`` (where a test's record came
 from and how it was read), ``RunStats`` (the statistics over its seeded
-runs), ``BootstrapIntervals`` (its parameters' intervals, an
-``Interval`` each) and ``SolverStatus`` (how its search ended).  ``schema`` writes and reads them as the file's blocks."""
+runs), ``BootstrapIntervals`` (its parameters' intervals, an ``Interval``
+each) and ``SolverStatus`` (how its search ended).  ``schema`` writes and
+reads them as the file's blocks."""
 
 from __future__ import annotations
 

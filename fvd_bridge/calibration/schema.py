@@ -75,7 +75,8 @@ def to_dict(cal) -> dict:
         "parameters": {
             p.name: {"value": p.value, "unit": p.unit, "bounds": list(p.bounds),
                      "mean_over_runs": float(m), "sigma_over_runs": float(s),
-                     **interval_entry(cal, p.name), **({"per_test": p.per_test} if p.per_test else {})}
+                     **(cal.intervals.of_parameter(p.name) if cal.intervals else {}),
+                     **({"per_test": p.per_test} if p.per_test else {})}
             for p, m, s in zip(cal.params.values(), p_mean, p_sigma)},
         "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
                            **_derived_interval(cal, name)}
@@ -94,11 +95,6 @@ def to_dict(cal) -> dict:
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
         "warnings": [str(w) for w in cal.warnings],
     }
-
-
-def interval_entry(cal, name: str) -> dict:
-    """{stderr, ci95} of one parameter (with its per-test columns' ci95), or {}."""
-    return cal.intervals.of_parameter(name) if cal.intervals else {}
 
 
 def _derived_interval(cal, name: str) -> dict:

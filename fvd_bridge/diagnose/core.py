@@ -379,8 +379,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     diag = Diagnosis(device.name, model, base_fit, F_model, noise.sigma_F, judge,
                      where_mod.analyse(focus, F_model), noise=noise, base_history=history,
                      tests=[TestOF(*t) for t in zip(device.test_names, test_of)] if len(device.tests) > 1 else [],
-                     focus=focus,
-                     per_test=per_test)
+                     focus=focus, per_test=per_test)
     if candidates and len(device.tests) > 1:  # before the effects: do the tests agree?
         say("do the tests agree? each law parameter freed per test, refitted from the base:")
         with timing.stage("  per-test check"):
