@@ -35,6 +35,7 @@ from .. import timing
 from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..fit.layout import Layout
+from ..fit.objective import NEAR_FLOOR
 from ..fit.result import Parent
 from ..records.device import as_device
 from . import where as where_mod
@@ -46,8 +47,6 @@ from .rank import Candidate, Judge, assess, lower_base, refit_all
 MAX_BASE_ROUNDS = 3
 #: a base counts as lowered when its OF falls by more than this fraction
 BASE_TOL = 1e-6
-#: an OF up to this multiple of the floor is "close to the floor" in the verdict
-NEAR_FLOOR = 1.5
 
 #: diagnose's cap on the generations of the DE check a model declaring
 #: global_search gets (calibrate's: 300; a diagnosis runs 1 + 7 fits and the
@@ -300,7 +299,8 @@ class Diagnosis:
                     f"no candidate effects were refitted")
         if b is None and self.of <= NEAR_FLOOR * self.floor:
             return (f"no candidate effect helps beyond noise (OF {self.of:.4g}, {self.of / self.floor:.1f}x "
-                    f"the noise floor): close to the floor, whose input-noise part is an estimate")
+                    f"the noise floor): close to the noise; what little is left is not one of the known effects, "
+                    f"or the floor (an estimate) is low")
         if b is None:
             return (f"no candidate effect helps beyond noise (OF {self.of:.4g}, {self.of / self.floor:.1f}x "
                     f"the noise floor): the misfit is not one of the known effects")

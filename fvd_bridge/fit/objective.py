@@ -4,6 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
+#: an OF within this many times the noise floor: the model explains the record down to its noise
+AT_FLOOR = 1.5
+#: within this many: close to the noise, little left to explain (the floor's
+#: input-noise part is an estimate); beyond it the model misses part of the record
+NEAR_FLOOR = 3.0
+
 
 def objective_weights(F_measured: np.ndarray, t: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
     """c (n_t,) with OF = sum |p_m - p_e| c: eq. 18's trapezoidal weights

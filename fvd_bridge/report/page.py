@@ -25,6 +25,7 @@ from ..calibration import Calibration, common_tests, same_data
 from ..io.staging import atomic_file, safe_name
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
+from ..fit.objective import AT_FLOOR, NEAR_FLOOR
 from ..errors import InputError, PluginNeeded
 from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
@@ -105,11 +106,6 @@ def _floor(records: dict, cal=None) -> float | None:
     floors = [noise_floor(force_noise(rec.F), rec.F) for rec in records.values() if rec is not None]
     return float(np.mean(floors)) if floors else None
 
-
-#: an OF within this many times the noise floor: the model explains the record down to its noise
-AT_FLOOR = 1.5
-#: within this many: close to the noise, little left to explain
-NEAR_FLOOR = 3.0
 
 
 def _how_good(of: float, floor: float | None) -> str:
