@@ -217,7 +217,7 @@ def solve(model, params, record, per_test=(), overrides=None, zero=None) -> Zero
     prob = ZeroProblem(model, device, pt, overrides, x0)
     u0 = prob.space.to_unit(x0)[None, :]
     found = run_local(prob.evaluate, prob.residuals, prob.space.n, np.random.default_rng(0), FROM_START, None, u0,
-                      prob.layout.columns_of(model.stepped))
+                      prob.layout.stepped)
     x, of = found.x, found.of
     P = prob.space.to_params(x) if of < prob.evaluate(u0)[0] else x0
     r = prob.residuals(prob.space.to_unit(P)[None, :])[0]

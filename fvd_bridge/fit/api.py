@@ -131,15 +131,14 @@ def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, setting
     p0 = None if start is None else np.clip(np.atleast_2d(np.asarray(start, dtype=float)), b[:, 0], b[:, 1])
     x0 = None if p0 is None else space.to_unit(p0)  # (k, n): one row, or the data's k candidates
     if local and x0 is not None and local_search:
-        found = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0, layout.columns_of(model.stepped))
+        found = run_local(evaluate, residuals, space.n, rng, FROM_START, None, x0, layout.stepped)
     elif local and x0 is not None:
         found = polish(evaluate, x0[0], float(evaluate(x0[:1])[0]), WIDEN_EVALS)
         found = replace(found, evaluations=found.evaluations + 1, stop=f"{found.stop}, from the widened round's start")
     elif optimizer == "de":
         found = run_de(evaluate, space.n, rng, settings, on_generation, None if x0 is None else x0[0])
     elif local_search:
-        found = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0,
-                          layout.columns_of(model.stepped))
+        found = run_local(evaluate, residuals, space.n, rng, settings, on_generation, x0, layout.stepped)
     else:
         found = run_ga(evaluate, space.n, rng, settings, on_generation)
         if optimizer == "ga+polish":
@@ -235,7 +234,7 @@ def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "aut
     _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     found = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
-                      space.to_unit(start), layout.columns_of(model.stepped))
+                      space.to_unit(start), layout.stepped)
     of0 = found.history[0]  # FROM_START's one sample: the start
     return (start, of0) if of0 <= found.of else (space.to_params(found.x), float(found.of))
 

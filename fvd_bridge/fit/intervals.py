@@ -224,7 +224,7 @@ def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list
     replicas = [as_device(r) for r in replicas]
     estimates = np.repeat(np.asarray(params, dtype=float)[None, :], len(replicas), axis=0)
     ofs = np.zeros(len(replicas))
-    stepped = layout.columns_of(model.stepped)
+    stepped = layout.stepped
     misses = 0  # replicas in a row whose steps did not settle
     for b, replica in enumerate(replicas):
         if misses < NEWTON_MISSES:

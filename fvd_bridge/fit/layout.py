@@ -47,9 +47,11 @@ class Layout:
         idx = {n: k for k, n in enumerate(self.model.names)}
         return list(per_model) + [per_model[idx[n]] for n in self.free for _ in self.tests[1:]]
 
-    def columns_of(self, names) -> list[int]:
-        """Columns of the fitted vector that hold the model parameters ``names`` (per-test ones included)."""
-        return [k for k, n in enumerate(self.names) if n.split(SEP)[0] in names]
+    @property
+    def stepped(self) -> list[int]:
+        """Columns of the fitted vector on which the OF moves in steps
+        (``Model.stepped``: a gap's clearance; per-test ones included)."""
+        return [k for k, n in enumerate(self.names) if n.split(SEP)[0] in self.model.stepped]
 
     def columns(self, test: int) -> list[int]:
         """Columns of the fitted vector that make test ``test``'s model vector."""

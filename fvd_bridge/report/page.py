@@ -107,7 +107,6 @@ def _floor(records: dict, cal=None) -> float | None:
     return float(np.mean(floors)) if floors else None
 
 
-
 def _how_good(of: float, floor: float | None) -> str:
     """The OF against the noise floor, in words."""
     if floor is None or floor <= 0:
