@@ -151,6 +151,10 @@ class Interval:
         """An interval from its block {ci95, stderr[, bias]}."""
         return cls(tuple(float(x) for x in block["ci95"]), block.get("stderr"), block.get("bias"))
 
+    def as_dict(self) -> dict:
+        """The file's entry: {stderr, ci95: [lower, upper]} (the bias is not kept)."""
+        return {"stderr": self.stderr, "ci95": list(self.ci95)}
+
 
 @dataclass(frozen=True)
 class BootstrapIntervals:
@@ -189,8 +193,7 @@ class BootstrapIntervals:
         {TEST: ci95}]} (its per-test columns' too), or {}."""
         if name not in self.parameters:
             return {}
-        own = self.parameters[name]
-        out = {"stderr": own.stderr, "ci95": list(own.ci95)}
+        out = self.parameters[name].as_dict()
         per = {n.split(SEP)[1]: list(i.ci95) for n, i in self.parameters.items() if n.startswith(name + SEP)}
         return {**out, "per_test_ci95": per} if per else out
 

@@ -79,7 +79,8 @@ def to_dict(cal) -> dict:
                      **({"per_test": p.per_test} if p.per_test else {})}
             for p, m, s in zip(cal.params.values(), p_mean, p_sigma)},
         "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
-                           **_derived_interval(cal, name)}
+                           **(cal.intervals.derived[name].as_dict()
+                              if cal.intervals and name in cal.intervals.derived else {})}
                     for name, (value, unit) in cal.derived().items()},
         **({"intervals": {k: plain(getattr(cal.intervals, k)) for k in ("replicates", "method", "noise_of", "note",
                                                                             "not_identified")},
@@ -95,12 +96,6 @@ def to_dict(cal) -> dict:
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
         "warnings": [str(w) for w in cal.warnings],
     }
-
-
-def _derived_interval(cal, name: str) -> dict:
-    """{stderr, ci95} of one derived quantity, or {}."""
-    given = cal.intervals.derived.get(name) if cal.intervals else None
-    return {} if given is None else {"stderr": given.stderr, "ci95": list(given.ci95)}
 
 
 def read(path: str, catalog=None, plugins=()) -> dict:
