@@ -60,10 +60,6 @@ def shape(x):
     return type(x).__name__ if isinstance(x, (str, bool)) or x is None else "number"
 
 
-def without_version(text: str) -> str:
-    return "\n".join(line for line in text.splitlines() if not line.startswith("fvd_bridge_version:"))
-
-
 @pytest.mark.parametrize("name", ["device_per_test.yaml", "law8_one_test.yaml"])
 def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_path):
     """The fixtures were written by fvd_bridge 0.3.0 (commit a8ef21b), when the tests were dicts."""
@@ -75,7 +71,11 @@ def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_
         cal.of = 0.0
     assert replace(cal, device="other").device == "other" and cal.device != "other"
     again = Calibration.load(cal.save(str(tmp_path / name)))
-    assert without_version((tmp_path / name).read_text()) == without_version((V3 / name).read_text())
+    written, given = (yaml.safe_load(path.read_text()) for path in (tmp_path / name, V3 / name))
+    for entry in written["parameters"].values():  # 0.4 writes every test's interval, the first's (its ci95) too
+        if "per_test_ci95" in entry:
+            assert entry["per_test_ci95"].pop(cal.tests[0].name) == entry["ci95"]
+    assert {**written, "fvd_bridge_version": None} == {**given, "fvd_bridge_version": None}
     assert again.tests == cal.tests and again.runs == cal.runs and np.array_equal(again.values, cal.values)
     assert again.record == cal.record and again.intervals == cal.intervals and again.settings == cal.settings
     assert cal.solver is None and again.solver is None  # written before the solver block: none is added
@@ -108,6 +108,8 @@ def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before
     assert list(written["settings"]) == list(before["settings"])
     # the file of before, and the block of how the best run's search ended (new in 0.4)
     solver = written.pop("solver")
+    C = written["parameters"]["C"]  # and every test's interval, the first's (its ci95) too (new in 0.4)
+    assert list(C["per_test_ci95"]) == ["sn7_slow", "sn7_fast"] and C["per_test_ci95"].pop("sn7_slow") == C["ci95"]
     assert shape({**written, "settings": {}}) == shape({**before, "settings": {}}) and list(written) == list(before)
     assert solver == cal.solver.as_dict() and cal.solver.optimizer == "local" and cal.solver.stop.startswith("local: ")
     assert cal.solver.evaluations > 0 and f"search:        {cal.solver.evaluations} evaluations" in cal.report()

@@ -5,7 +5,8 @@ its exports).  The file it is saved as is ``schema``'s; its text report
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import os
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import yaml
@@ -20,7 +21,7 @@ from . import schema, tested as tested_mod, text
 from .parts import BootstrapIntervals, RecordSource, RunStats, SolverStatus, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
-from .text import REPORTED_CORRELATION
+from .text import REPORTED_CORRELATION, per_test_text
 
 
 @dataclass(frozen=True)
@@ -241,7 +242,7 @@ class Calibration:
 
         return self.provenance_lines() + solving_advice(export, self.solving(export))
 
-    def to_opensees(self, tag: int = 1, units=None):
+    def to_opensees(self, tag: int = 1, units=None, test: str | None = None):
         """The damper as OpenSees commands.
 
         Parameters
@@ -251,6 +252,9 @@ class Calibration:
         units : str or tuple, optional
             The OpenSees model's FORCE,LENGTH,TIME, e.g. ``"kN,m,s"`` or
             ``("kN", "m", "s")``; None: kN, mm, s.
+        test : str, optional
+            The test whose values a parameter fitted per test takes
+            (``for_test``; required then, refused otherwise).
 
         Returns
         -------
@@ -261,10 +265,11 @@ class Calibration:
         """
         from ..export.opensees import OpenSeesCommands, opensees_export
 
-        export = opensees_export(self.model, self.named(), tag, units=units)
-        return OpenSeesCommands(export, self.export_lines(export))
+        cal = self.for_test(test)
+        export = opensees_export(cal.model, cal.named(), tag, units=units)
+        return OpenSeesCommands(export, cal.export_lines(export))
 
-    def to_fmu(self, path, h_max: float | None = None) -> str:
+    def to_fmu(self, path, h_max: float | None = None, test: str | None = None) -> str:
         """Write the damper as an FMI 3.0 co-simulation FMU (``export.fmu.build_fmu``).
 
         Parameters
@@ -273,6 +278,9 @@ class Calibration:
             The .fmu file to write (atomically: nothing is left on failure).
         h_max : float, optional
             The largest integration sub-step [s]; default the calibration record's dt.
+        test : str, optional
+            The test whose values a parameter fitted per test takes
+            (``for_test``; required then, refused otherwise).
 
         Returns
         -------
@@ -281,7 +289,55 @@ class Calibration:
         """
         from ..export.fmu import build_fmu
 
-        return build_fmu(self, path, h_max)
+        return build_fmu(self.for_test(test), path, h_max)
+
+    @property
+    def per_test(self) -> dict:
+        """{name: {test: value}}: the parameters fitted per test and each
+        test's value [the model's units]; {} when every one is shared (always with one test)."""
+        if len(self.tests) < 2:
+            return {}
+        fitted = [name for name in self.model.names if any(name in t.parameters for t in self.tests)]
+        return {name: {t.name: float(t.parameters[name]) for t in self.tests if name in t.parameters}
+                for name in fitted}
+
+    def for_test(self, test: str | None = None) -> "Calibration":
+        """The calibration an export, a comparison or a frame takes.
+
+        Parameters
+        ----------
+        test : str, optional
+            A test's name.  With parameters fitted per test: that test's
+            calibration (its values, OF, record, tested range and intervals;
+            an export's header says "calibrated on device D, test B").
+            Without: the calibration itself.  None with parameters fitted
+            per test, or a name of no test, raises InputError naming the tests.
+
+        Returns
+        -------
+        Calibration
+            One parameter vector, no longer per test.
+        """
+        names = [t.name for t in self.tests]
+        if test is not None and test not in names:
+            raise InputError(f"{option('--test', test)}: {self.where()} has tests {', '.join(names)}")
+        if not self.per_test:
+            return self
+        if test is None:
+            raise InputError(_per_test_refusal(self))
+        chosen = self.tests[names.index(test)]
+        return replace(self, values=self.params_for(test), of=self.of if chosen.of is None else float(chosen.of),
+                       record=chosen.record, tests=(chosen,), runs=None,
+                       intervals=_intervals_on(self.intervals, test, names[0], tuple(self.per_test)),
+                       records=[r for r in self.records if r.name == test])
+
+    def where(self) -> str:
+        """The calibration in messages: its file (relative to the working
+        folder when inside it), else 'the calibration of device D'."""
+        if not self.path:
+            return f"the calibration of {self.device or self.record.name or 'its record'}"
+        shown = os.path.relpath(self.path)
+        return self.path if shown.startswith(os.pardir) else shown
 
     def test_named(self, name: str) -> str | None:
         """The test whose parameters a record takes.
@@ -306,13 +362,15 @@ class Calibration:
         ----------
         test : str, optional
             A test's name (InputError for another); parameters fitted per
-            test take that test's value.  None: the shared values.
+            test take that test's value.  None: the model's vector (a
+            parameter fitted per test: the first test's value; ``for_test``
+            refuses it instead).
         """
         if test is None:
             return self.values
         names = [t.name for t in self.tests]
         if test not in names:
-            raise InputError(f"{option('--test', test)}: the calibration has tests {', '.join(names)}")
+            raise InputError(f"{option('--test', test)}: {self.where()} has tests {', '.join(names)}")
         values = {**dict(zip(self.model.names, self.values)), **self.tests[names.index(test)].parameters}
         return np.array([values[n] for n in self.model.names], dtype=float)
 
@@ -430,3 +488,20 @@ class Calibration:
         return cls(**schema.read(path, catalog, plugins))
 
 
+def _per_test_refusal(cal) -> str:
+    """'cal.yaml: beta was fitted per test (A: 2.1, B: 3.35 kN/mm); name one with --test A or --test B'."""
+    tests = " or ".join(option("--test", t.name) for t in cal.tests)
+    return f"{cal.where()}: {per_test_text(cal)}; name one with {tests}"
+
+
+def _intervals_on(intervals, test: str, first: str, per_test: tuple):
+    """One test's intervals: a parameter fitted per test takes that test's
+    ('C@B' as 'C'; none when not computed); the other tests' columns, the
+    correlation and (on a test but the first) the derived quantities' are left out."""
+    if intervals is None:
+        return None
+    own = {n: e for n, e in intervals.parameters.items() if SEP not in n and (n not in per_test or test == first)}
+    if test != first:
+        own.update({n: intervals.parameters[f"{n}{SEP}{test}"] for n in per_test
+                    if f"{n}{SEP}{test}" in intervals.parameters})
+    return replace(intervals, parameters=own, correlation=None, derived=intervals.derived if test == first else {})

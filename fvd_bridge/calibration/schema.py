@@ -75,7 +75,7 @@ def to_dict(cal) -> dict:
         "parameters": {
             p.name: {"value": p.value, "unit": p.unit, "bounds": list(p.bounds),
                      "mean_over_runs": float(m), "sigma_over_runs": float(s),
-                     **(cal.intervals.of_parameter(p.name) if cal.intervals else {}),
+                     **_interval_entry(cal, p.name),
                      **({"per_test": p.per_test} if p.per_test else {})}
             for p, m, s in zip(cal.params.values(), p_mean, p_sigma)},
         "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
@@ -96,6 +96,15 @@ def to_dict(cal) -> dict:
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
         "warnings": [str(w) for w in cal.warnings],
     }
+
+
+def _interval_entry(cal, name: str) -> dict:
+    """A parameter's intervals in the file: {stderr, ci95[, per_test_ci95:
+    {TEST: ci95}, every test's, the first's being ci95]}; {} without intervals."""
+    entry = cal.intervals.of_parameter(name) if cal.intervals else {}
+    if "per_test_ci95" in entry:
+        entry["per_test_ci95"] = {cal.tests[0].name: list(entry["ci95"]), **entry["per_test_ci95"]}
+    return entry
 
 
 def read(path: str, catalog=None, plugins=()) -> dict:
@@ -155,9 +164,11 @@ def _intervals(data: dict) -> BootstrapIntervals | None:
     if not data.get("intervals"):
         return None
     params = {n: {"stderr": e["stderr"], "ci95": e["ci95"]} for n, e in data["parameters"].items() if "ci95" in e}
+    first = (data.get("tests") or [{}])[0].get("name")  # its interval is the parameter's ci95 (0.4 writes it twice)
     for n, e in data["parameters"].items():
         for test, ci in (e.get("per_test_ci95") or {}).items():
-            params[f"{n}{SEP}{test}"] = {"stderr": None, "ci95": ci}
+            if test != first:
+                params[f"{n}{SEP}{test}"] = {"stderr": None, "ci95": ci}
     derived = {n: d for n, d in (data.get("derived") or {}).items() if "ci95" in d}
     return BootstrapIntervals.from_dict({**data["intervals"], "parameters": params, "derived": derived,
                                          "correlation": data.get("correlation")})

@@ -53,9 +53,21 @@ def tested_text(cal) -> str:
 
 
 def provenance_lines(cal) -> list[str]:
-    """What an export's header says of the calibration: its record and tested range."""
-    name = cal.record.name
-    return [*([f"calibrated on record {name}"] if name else []), tested_text(cal)]
+    """What an export's header says of the calibration: what it was fitted on and its tested range."""
+    source = fitted_on_text(cal)
+    return [*([f"calibrated on {source}"] if source else []), tested_text(cal)]
+
+
+def fitted_on_text(cal) -> str:
+    """What a calibration was fitted on: 'record A', 'device D, tests A, B',
+    or one test of a device ('device D, test B'; with what it took of that
+    test: 'device D, test B (beta fitted per test: test B's value)'); '': unknown."""
+    names = [t.name for t in cal.tests]
+    if len(names) <= 1 and (not cal.device or cal.device == (names or [cal.record.name])[0]):
+        return f"record {cal.record.name}" if cal.record.name else ""
+    own = list(cal.tests[0].parameters) if len(names) == 1 else []
+    taken = f" ({', '.join(own)} fitted per test: test {names[0]}'s value)" if own else ""
+    return f"device {cal.device}, test{'s' if len(names) > 1 else ''} {', '.join(names)}{taken}"
 
 
 def data_key(test) -> tuple:

@@ -71,12 +71,28 @@ def interval_lines(cal) -> list[str]:
     def unit(name):
         return "" if units.get(name.split(SEP)[0], "-") == "-" else f" {units[name.split(SEP)[0]]}"
 
-    out = [f"{n} = {rounded(values[n])}{unit(n)} (fixed by the caller)"
+    first = {n: f"{n}{SEP}{cal.tests[0].name}" for n in cal.per_test}  # the model's vector holds the first test's
+    out = [f"{first.get(n, n)} = {rounded(values[n])}{unit(n)} (fixed by the caller)"
            if e.ci95[0] == e.ci95[1] else
-           f"{n} = {rounded(values[n], e.stderr)}{unit(n)}, 95% {interval(*e.ci95, e.stderr)}"
+           f"{first.get(n, n)} = {rounded(values[n], e.stderr)}{unit(n)}, 95% {interval(*e.ci95, e.stderr)}"
            + (f" (stderr {rounded(e.stderr, digits=2)})" if e.stderr is not None else "")
            for n, e in given.items() if n in values]
     out += [f"{n} = {rounded(derived[n][0], d.stderr)} {derived[n][1]}, 95% {interval(*d.ci95, d.stderr)} "
             f"(stderr {rounded(d.stderr, digits=2)})" for n, d in cal.intervals.derived.items() if n in derived]
     out += [f"not identified: {line}" for line in cal.intervals.not_identified]
     return out + ([f"note: {cal.intervals.note}"] if cal.intervals.note else [])
+
+
+def per_test_text(cal) -> str:
+    """'beta was fitted per test (A: 2.1, B: 3.35 kN/mm)': the parameters
+    fitted per test (``Calibration.per_test``) with each test's value."""
+    fitted, units = cal.per_test, dict(zip(cal.model.names, cal.model.units))
+
+    def values(name: str, sep: str) -> str:
+        unit = "" if units[name] == "-" else f" {units[name]}"
+        return ", ".join(f"{test}{sep} {rounded(v)}" for test, v in fitted[name].items()) + unit
+
+    if len(fitted) == 1:
+        (name,) = fitted
+        return f"{name} was fitted per test ({values(name, ':')})"
+    return f"{', '.join(fitted)} were fitted per test ({'; '.join(f'{n}: {values(n, str())}' for n in fitted)})"

@@ -45,6 +45,14 @@ def add_plugin_option(p: argparse.ArgumentParser) -> None:
                         "never runs code: its plugins run only when you give them here")
 
 
+def add_test_option(p: argparse.ArgumentParser) -> None:
+    """--test NAME: the test whose values a calibration with parameters fitted per test takes."""
+    p.add_argument("--test", metavar="NAME",
+                   help="a calibration with a parameter fitted per test (calibrate --per-test) takes this test's "
+                        "values, and its header names the test; without it such a calibration is refused (exit 2) "
+                        "with its tests named. Calibrations whose parameters are all shared need none")
+
+
 def read_options(args) -> ReadOptions:
     columns = parse_mapping(args.columns, "--columns")
     derive = columns.get("v") == NO_COLUMN  # --columns v=none: derive v from d

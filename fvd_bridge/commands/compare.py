@@ -15,7 +15,7 @@ from ..io.staging import safe_name, staged_dir, write_json
 from ..records import Record
 from ..records.validate import scale_mismatch
 from ..rig.protocols import read_history
-from .common import add_plugin_option, add_record_options, read_records, window
+from .common import add_plugin_option, add_record_options, add_test_option, read_records, window
 
 
 def add_parser(sub):
@@ -32,6 +32,7 @@ def add_parser(sub):
     p.add_argument("--json", action="store_true",
                    help='print {"record": PATH, "models": [{"file", "model", "of"}, ...]} best first')
     p.add_argument("--no-figures", action="store_true", help="write no figure")
+    add_test_option(p)
     add_plugin_option(p)
     add_record_options(p)
     p.set_defaults(func=run)
@@ -68,6 +69,7 @@ def run(args) -> int:
         raise InputError("compare needs at least one PARAMS.yaml and a RECORD")
     *param_files, record_path = args.files
     cals = [Calibration.load(f, plugins=args.plugin) for f in param_files]
+    cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's
     record, has_force = _read(record_path, args)
     for cal in cals:
         _check_units(cal, record, record_path)

@@ -11,7 +11,8 @@ from ..fit import objective
 from ..golden import golden_record, reference_input
 from ..io.staging import atomic_file, output_folder_exists
 from ..units import system_text
-from .common import CALIBRATION_RECORD, add_plugin_option, add_record_options, read_as_calibrated, read_records
+from .common import (CALIBRATION_RECORD, add_plugin_option, add_record_options, add_test_option, read_as_calibrated,
+                     read_records)
 
 
 def add_parser(sub):
@@ -39,6 +40,7 @@ def add_parser(sub):
                    help="drive the OpenSees material with this record's displacement (without RECORD: the "
                         "calibration record, read as it was read) and compare its force with fvd_bridge's model "
                         "(eq. 18); exit 1 with a figure when it misses the documented bound")
+    add_test_option(o)
     add_plugin_option(o)
     add_record_options(o, units_flag="--record-units")
     o.set_defaults(func=run_opensees)
@@ -55,6 +57,7 @@ def add_parser(sub):
     f.add_argument("--h-max", type=float, metavar="S",
                    help="largest internal sub-step [s] (default: the calibration record's dt)")
     f.add_argument("--check", metavar="RECORD", help="check on this record instead of the calibration record")
+    add_test_option(f)
     add_plugin_option(f)
     add_record_options(f)
     f.set_defaults(func=run_fmu)
@@ -72,7 +75,7 @@ def run_opensees(args) -> int:
             raise InputError(f"-o {args.output}: the suffix must be .py (OpenSeesPy) or .tcl (Tcl)")
         output_folder_exists(args.output)
         lang = ext[1:]
-    cal = Calibration.load(args.params, plugins=args.plugin)
+    cal = Calibration.load(args.params, plugins=args.plugin).for_test(args.test)
     export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
     record = None
     if args.check == CALIBRATION_RECORD:
@@ -159,7 +162,7 @@ def run_fmu(args) -> int:
     problem = toolchain_problem()  # before any other word: building cannot work here
     if problem:
         raise InputError(problem)
-    cal = Calibration.load(args.params, plugins=args.plugin)
+    cal = Calibration.load(args.params, plugins=args.plugin).for_test(args.test)
     record = _fmu_check_record(cal, args)
     if args.check:
         _warn_beyond(cal, record)

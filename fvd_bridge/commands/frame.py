@@ -14,7 +14,7 @@ from ..errors import InputError
 from ..records import read_record
 from ..records.motions import read_motion
 from ..export.opensees_check import quiet_opensees
-from .common import add_plugin_option
+from .common import add_plugin_option, add_test_option
 
 BUILDINGS = ("3-story", "9-story")
 #: --duration keeping less than this share of the record's energy (Arias intensity) is warned about
@@ -77,6 +77,7 @@ def add_parser(sub):
     p.add_argument("--no-figures", action="store_true", help="write no figures")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--profile", action="store_true", help="print where the time went (time per analysis)")
+    add_test_option(p)
     add_plugin_option(p)
     p.set_defaults(func=run)
 
@@ -148,6 +149,7 @@ def load_inputs(args):
     if args.dampers_per_story < 1:
         raise InputError(f"--dampers-per-story {args.dampers_per_story}: must be at least 1")
     cals = [Calibration.load(f, plugins=args.plugin) for f in calibration_files(args.params)]
+    cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's
     if args.laws:
         wanted = {catalog(args.plugin).model(s.strip()).spec for s in args.laws.split(",")}
         cals = [c for c in cals if c.spec in wanted]
@@ -180,7 +182,8 @@ def sizing_command(args, target: float = 0.20) -> str:
     import shlex
 
     words = ["fvd-bridge", "frame", *args.params, "--record", args.record]
-    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift", "bounds"):
+    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift", "bounds",
+                 "test"):
         if getattr(args, name) is not None:
             words += [f"--{name.replace('_', '-')}", f"{getattr(args, name):g}" if isinstance(getattr(args, name), float)
                       else str(getattr(args, name))]

@@ -53,6 +53,7 @@ from fmpy.validation import validate_fmu
 
 from .._version import __version__
 from ..calibration.parts import RecordSource
+from ..calibration.tested import fitted_on_text
 from ..effects.catalog import EFFECTS
 from ..errors import InputError, positive
 from ..fit.objective import objective
@@ -84,7 +85,9 @@ def build_fmu(calibration, path, h_max: float | None = None) -> str:
     ``h_max`` [s]: the largest integration sub-step (default: the
     calibration record's dt, else DEFAULT_H_MAX).  A model with a plugin
     effect cannot be exported, nor one built without cmake and a C compiler
-    (InputError naming what to install)."""
+    (InputError naming what to install), nor a calibration with parameters
+    fitted per test (choose the test first: ``Calibration.for_test``)."""
+    calibration = calibration.for_test()  # refused with per-test parameters: one test's values are not the device's
     values = start_values(calibration, _h_max(calibration, h_max))
     problem = toolchain_problem()  # before anything is written
     if problem:
@@ -311,11 +314,11 @@ def _record_file(calibration) -> str | None:
 def _description(calibration) -> str:
     """The FMU's description: the device, named by its law (Law.name) and effects, the model, the calibration."""
     model, law = calibration.model, calibration.model.law
-    rec = calibration.record
     kind = law.name + (" with " + ", ".join(e.name.replace("_", " ") for e in model.effects) if model.effects else "")
     effects = "".join(f"; {e.name}: {e.equation}" for e in model.effects)
-    file = _record_file(calibration)
-    source = (f" on record {rec.name}" + (f" ({file})" if file else "")) if rec.name else ""
+    file = _record_file(calibration) if len(calibration.tests) <= 1 else None  # several tests: several files
+    fitted_on = fitted_on_text(calibration)
+    source = (f" on {fitted_on}" + (f" ({file})" if file else "")) if fitted_on else ""
     return (f"{_device(calibration)}: {kind} (fvd_bridge model {model.spec}: law {law.number}, {law.equation}"
             f"{effects}), calibrated by fvd_bridge to OF {calibration.of:.4g}{source}; "
             f"{calibration.tested_text()}. "
@@ -332,6 +335,8 @@ def _annotation(calibration) -> ET.Element:
                         of=repr(float(calibration.of)), fvd_bridge_version=__version__)
     if calibration.path:
         cal.set("file", os.path.basename(calibration.path))
+    if calibration.tests:
+        cal.set("tests", ", ".join(t.name for t in calibration.tests))  # one of a device's: the test taken
     ET.SubElement(cal, "Law", number=str(law.number), name=law.name, equation=law.equation, source=law.source)
     for e in model.effects:
         ET.SubElement(cal, "Effect", name=e.name, equation=e.equation)

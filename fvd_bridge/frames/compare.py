@@ -165,7 +165,10 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
     of the step before), its note saying so; one the FMU cannot carry
     either is kept as a case without result, its note saying why.
     ``bounds`` (frames.bounds.Bounds): each calibration runs as its nominal,
-    upper- and lower-bound damper (``bounds.expand``)."""
+    upper- and lower-bound damper (``bounds.expand``).  A calibration with
+    parameters fitted per test is refused: take one test's first
+    (``Calibration.for_test``)."""
+    calibrations = [cal.for_test() for cal in calibrations]
     runs = [(Case("bare frame", None, None, None), None, None)]
     for cal in calibrations:
         device = cal.device or cal.record.name or "device"
