@@ -24,6 +24,7 @@ API_ARGUMENT = {
     "--devices": "devices={v!r}",
     "--protocol": "protocol={v!r}",
     "--laws": "laws={v!r}",
+    "--plot": "path={v!r}",
 }
 
 

@@ -19,6 +19,7 @@ from ..errors import InputError
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS, settings_for
 from ..fit.intervals import REPLICATES
+from ..io.staging import check_output
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
 from ..records.device import Device
 from .common import add_record_options, read_records
@@ -280,6 +281,7 @@ def unique_names(records):
 
 def run(args) -> int:
     apply_config(args)
+    check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     cs = campaign_settings(args)
     records = unique_names(read_records(args.records, args))
     records = group_device(records, args)

@@ -46,6 +46,7 @@ from ..campaign.stats import OUTLIER_K
 from ..campaign.store import UnitStore
 from ..effects.plugins import file_sha256
 from ..errors import InputError
+from ..io.staging import check_output
 from ..records.device import Device
 from .calibrate import campaign_settings, option_parser, parse_option, unique_names
 from .common import read_records
@@ -121,6 +122,10 @@ def plan(path: str) -> dict:
     if "devices" in own and (not isinstance(own["devices"], dict) or not own["devices"]):
         raise InputError(f"{path}: key 'devices': expected a mapping of device names to paths or globs")
     args.out = os.path.join(base, os.path.expanduser(str(args.out)))
+    try:
+        check_output(args.out, "dir")  # before any work: a bad path is one line, exit 2
+    except InputError as exc:
+        raise InputError(f"{path}: key 'out': {exc}") from None
     args.plugin = [os.path.join(base, os.path.expanduser(p)) for p in args.plugin]
     if args.jobs is not None and args.jobs < 0:
         raise InputError(f"{path}: key 'jobs': {args.jobs} must be >= 0 (0: one per core)")

@@ -11,7 +11,7 @@ import numpy as np
 from ..calibration import Calibration
 from ..errors import InputError
 from ..fit import objective
-from ..io.staging import safe_name, staged_dir, write_json
+from ..io.staging import check_output, safe_name, staged_dir, write_json
 from ..records import Record
 from ..records.validate import scale_mismatch
 from ..rig.protocols import read_history
@@ -67,6 +67,7 @@ def run(args) -> int:
 
     if len(args.files) < 2:
         raise InputError("compare needs at least one PARAMS.yaml and a RECORD")
+    check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     *param_files, record_path = args.files
     cals = [Calibration.load(f, plugins=args.plugin) for f in param_files]
     cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's

@@ -20,6 +20,7 @@ from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS
+from ..io.staging import check_output, removed_on_failure
 from ..laws import PAPER_LAWS
 from ..records import read_record
 from ..rig import DEMO_NOISE, Noise, demo_series, paper, write_series
@@ -47,6 +48,13 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """The demo, all or nothing: a new --out is removed when a step fails (the records are written first)."""
+    check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
+    with removed_on_failure(args.out):
+        return _run(args)
+
+
+def _run(args) -> int:
     start = time.perf_counter()
     rec_dir = os.path.join(args.out, "records")
     devices = demo_series(seed=args.seed)

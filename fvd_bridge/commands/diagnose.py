@@ -15,7 +15,7 @@ from ..catalog import catalog
 from ..errors import InputError
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER
-from ..io.staging import safe_name, staged_dir
+from ..io.staging import check_output, safe_name, staged_dir
 from ..records.device import Device
 from .calibrate import unique_names
 from .common import READING, add_record_options, read_records
@@ -66,6 +66,7 @@ def add_parser(sub):
 def run(args) -> int:
     from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
 
+    check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     for name in ("pop", "gens", "max_rungs"):
         value = getattr(args, name)
         if value is not None and value < 1:

@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import os
-
 from ..catalog import catalog
 from ..effects.compose import ordered
-from ..errors import InputError
+from ..io.staging import check_output
 
 EXAMPLE = {"F": 300.0, "v": 500.0, "d": 40.0}
 
@@ -28,9 +26,7 @@ def add_parser(sub):
 
 def run(args) -> int:
     if args.gap_figure:  # before any output: a bad path is one line, exit 2
-        folder = os.path.dirname(os.path.abspath(args.gap_figure))
-        if not os.path.isdir(folder):
-            raise InputError(f"--gap-figure {args.gap_figure}: folder {folder} does not exist")
+        check_output(args.gap_figure, "file", "--gap-figure")
     effects = ordered(catalog(args.plugin).effects.values())
     print("effects in composition order; use as LAW+EFFECT, e.g. 2+friction+series_stiffness")
     print("bounds shown for a record with peak F 300 kN, v 500 mm/s, d 40 mm; "

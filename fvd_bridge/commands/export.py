@@ -9,7 +9,7 @@ from ..calibration import Calibration
 from ..errors import InputError
 from ..fit import objective
 from ..golden import golden_record, reference_input
-from ..io.staging import atomic_file, output_folder_exists
+from ..io.staging import atomic_file, check_output
 from ..units import system_text
 from .common import (CALIBRATION_RECORD, add_plugin_option, add_record_options, add_test_option, read_as_calibrated,
                      read_records)
@@ -73,7 +73,7 @@ def run_opensees(args) -> int:
         ext = os.path.splitext(args.output)[1].lower()
         if ext not in (".py", ".tcl"):
             raise InputError(f"-o {args.output}: the suffix must be .py (OpenSeesPy) or .tcl (Tcl)")
-        output_folder_exists(args.output)
+        check_output(args.output, "file", "-o")
         lang = ext[1:]
     cal = Calibration.load(args.params, plugins=args.plugin).for_test(args.test)
     export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
@@ -158,7 +158,7 @@ def run_fmu(args) -> int:
 
     if not args.output.lower().endswith(".fmu"):
         raise InputError(f"-o {args.output}: the file name must end in .fmu")
-    output_folder_exists(args.output)
+    check_output(args.output, "file", "-o")
     problem = toolchain_problem()  # before any other word: building cannot work here
     if problem:
         raise InputError(problem)

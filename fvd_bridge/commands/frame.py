@@ -14,6 +14,7 @@ from ..errors import InputError
 from ..records import read_record
 from ..records.motions import read_motion
 from ..export.opensees_check import quiet_opensees
+from ..io.staging import check_output
 from .common import add_plugin_option, add_test_option
 
 BUILDINGS = ("3-story", "9-story")
@@ -202,6 +203,7 @@ def run(args) -> int:
 
     if args.periods:
         return print_periods(args)
+    check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     cals, building, motion, rank_on = load_inputs(args)
     log = tempfile.NamedTemporaryFile(prefix="fvd_bridge_opensees_", suffix=".log", delete=False)
     log.close()

@@ -6,6 +6,7 @@ import os
 import sys
 
 from ..errors import InputError
+from ..io.staging import check_output
 from .common import add_plugin_option
 
 
@@ -30,6 +31,7 @@ def run(args) -> int:
 
     if not os.path.isdir(args.out):
         raise InputError(f"{args.out}: no such output folder")
+    check_output(args.out, "dir")  # a folder report.html can be written into
     tolerance = args.tolerance
     if tolerance is not None and not 0.0 < tolerance < 1.0:
         raise InputError(f"--tolerance {tolerance:g}: must be a share between 0 and 1 (0.15 is +-15%)")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from ..errors import InputError
+from ..io.staging import check_output
 from ..rig import (DEMO_NOISE, DEMO_SCATTER, PARAMETERS, Device, Noise, demo_series, from_spec, production_series,
                    write_series)
 from ..rig.device import ARRANGEMENTS
@@ -114,6 +115,7 @@ def _device_args(args) -> dict:
 
 
 def run(args) -> int:
+    check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     seed = _int("seed", args.seed, 0)
     proto_opts = {}
     for key in ("dt", "amplitude", "velocity"):

@@ -7,7 +7,8 @@ import os
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ..errors import InputError
+from ..errors import InputError, option
+from ..io.staging import check_output
 from ..records.record import Record
 
 
@@ -17,10 +18,8 @@ def check_target(path: str) -> str:
     fmt = os.path.splitext(path)[1].lstrip(".").lower() or "png"
     known = FigureCanvasAgg(Figure()).get_supported_filetypes()
     if fmt not in known:
-        raise InputError(f"--plot {path}: unknown image format '.{fmt}' (known: {', '.join(sorted(known))})")
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(f"--plot {path}: folder {folder} does not exist")
+        raise InputError(f"{option('--plot', path)}: unknown image format '.{fmt}' (known: {', '.join(sorted(known))})")
+    check_output(path, "file", "--plot")
     return fmt
 
 

@@ -9,15 +9,19 @@ import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 
 from ..errors import InputError
+from ..io.staging import atomic_file
 
 
 def save(fig, path: str, dpi: int = 110, tight: bool = True) -> str:
     """Write ``fig`` to ``path`` (PNG) without leaving a partial file; closes it.
     ``tight``: crop to the drawn area (a second drawing pass), unless a layout engine placed the Axes."""
-    tmp = f"{path}.part.png"
-    fig.savefig(tmp, dpi=dpi, bbox_inches="tight" if tight and not fig.get_layout_engine() else None)
-    plt.close(fig)
-    os.replace(tmp, path)
+    fmt = os.path.splitext(path)[1].lstrip(".").lower() or "png"
+    try:
+        with atomic_file(path, "wb") as fh:
+            fig.savefig(fh, format=fmt, dpi=dpi,
+                        bbox_inches="tight" if tight and not fig.get_layout_engine() else None)
+    finally:
+        plt.close(fig)
     return path
 
 

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import os
-import shutil
-import tempfile
 
 import numpy as np
 import yaml
 
 from .._version import __version__
 from ..errors import InputError
+from ..io.staging import atomic_file, check_output, staged_dir
 from ..records.writers import write_csv
 from .device import PARAMETERS, Device
 from .protocols import Protocol
@@ -55,10 +54,8 @@ def truth_dict(devices, protocol: Protocol, noise: Noise, seed, files, scatter=N
 
 
 def _atomic_yaml(data: dict, path: str) -> None:
-    tmp = f"{path}.part"
-    with open(tmp, "w") as fh:
+    with atomic_file(path) as fh:
         yaml.safe_dump(data, fh, sort_keys=False, default_flow_style=None)
-    os.replace(tmp, path)
 
 
 def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None = None, seed=0,
@@ -69,10 +66,11 @@ def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None 
     parameters, protocol and noise. ``noise`` None: no noise (as
     ``simulate``); Noise() is the lab-like default.
 
-    All records are simulated before anything is written; the files are
-    written into a hidden staging directory inside ``out_dir`` and moved into
-    place only when all of them are complete, so an error leaves no partial
-    or half-written output. Returns the written record paths, then
+    ``out_dir`` is checked first (``io.staging.check_output``); all records
+    are simulated before anything is written; the files are written into a
+    staging directory beside ``out_dir`` and moved into place only when all
+    of them are complete, so an error (Ctrl-C included) leaves no partial or
+    half-written output. Returns the written record paths, then
     truth.yaml (the sidecars are not listed).
     """
     noise = noise or Noise(0.0, 0.0)
@@ -83,30 +81,18 @@ def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None 
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
         raise InputError(f"rig: two devices named '{dup[0]}'")
+    check_output(out_dir, "dir")
     records = simulate_series(devices, protocol, noise, seed, substeps)
-    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
-        raise InputError(f"--out {out_dir}: exists and is not a directory")
-    os.makedirs(out_dir, exist_ok=True)
     files = [f"{dev.name}.csv" for dev in devices]
-    stage = tempfile.mkdtemp(prefix=".rig-", dir=out_dir)
-    try:
-        sidecars = []
+    with staged_dir(out_dir) as stage:
         for rec, dev, f in zip(records, devices, files):
             comment = (f"fvd_bridge rig: device {dev.name}, protocol {protocol.name}; "
                        f"units t [s], d [mm], F [kN]{', v [mm/s]' if with_velocity else ''}; "
                        f"true parameters in {TRUTH_FILE}")
-            paths = write_csv(rec, os.path.join(stage, f), with_velocity=with_velocity, comment=comment)
-            sidecars += [os.path.basename(p) for p in paths[1:]]
+            write_csv(rec, os.path.join(stage, f), with_velocity=with_velocity, comment=comment)
         _atomic_yaml(truth_dict(devices, protocol, noise, seed, files, scatter, extra),
                      os.path.join(stage, TRUTH_FILE))
-        written = []
-        for f in sidecars + files + [TRUTH_FILE]:
-            os.replace(os.path.join(stage, f), os.path.join(out_dir, f))
-            if f not in sidecars:
-                written.append(os.path.join(out_dir, f))
-    finally:
-        shutil.rmtree(stage, ignore_errors=True)
-    return written
+    return [os.path.join(out_dir, f) for f in files + [TRUTH_FILE]]
 
 
 def read_truth(path: str) -> dict:
