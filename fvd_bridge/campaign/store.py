@@ -86,7 +86,8 @@ def result_from_dict(d: dict) -> FitResult:
                      test_of=[float(x) for x in d.get("test_of") or []],
                      widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()},
                      parent=Parent(d["parent"][0], float(d["parent"][1])) if d.get("parent") else None,
-                     stop=str(d.get("stop") or ""), flat_ends=list(d.get("flat_ends") or []))
+                     stop=str(d.get("stop") or ""), flat_ends=list(d.get("flat_ends") or []),
+                     zero={t: tuple(z) for t, z in d["zero"].items()} if d.get("zero") else None)
 
 
 def record_digest(rec) -> str:

@@ -17,6 +17,7 @@ from .nested import WIDEN_EVALS, WIDEN_GAIN, WIDEN_ROUNDS, data_start, nested_st
 from .objective import objective_weights
 from .result import FitResult, Parent
 from .space import Space
+from . import zero as zero_mod
 
 OPTIMIZERS = ("local", "local+de", "de", "ga", "ga+polish")
 DEFAULT_OPTIMIZER = "local"
@@ -54,7 +55,8 @@ def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict)
 def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
               seed=0, settings=None, substeps: int = 1, on_generation=None,
               overrides: dict | None = None, start: np.ndarray | None = None,
-              mask=None, per_test=(), nested: bool = True, widen: bool = True) -> FitResult:
+              mask=None, per_test=(), nested: bool = True, widen: bool = True, *,
+              force_zero: bool = False) -> FitResult:
     """Fit ``model`` (fvd_bridge.model.Model) to ``record`` (a Record, or a
     Device: its tests together, the weighted mean of their OFs) by minimising eq. 18.
 
@@ -70,9 +72,11 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     parameter ends on widen and the fit repeats.  ``mask``: fit the OF of
     those samples only (boolean (n_t,), or one per test; the model still
     runs over the whole record).  ``per_test``: parameters fitted per test.
+    ``force_zero``: each test's force zero fitted beside the model as a
+    nuisance (``fit.zero``; the result's ``zero``), never a parameter.
     """
     device = as_device(record)
-    layout = Layout(model, tuple(device.test_names), tuple(per_test))
+    layout = Layout(model, tuple(device.test_names), tuple(per_test), force_zero)
     own = settings_for(optimizer)
     settings = settings or own
     if type(settings) is not type(own):
@@ -82,14 +86,14 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
     t0, evals, widened, parent_of = time.perf_counter(), 0, {}, None
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
         pfit = fit_model(model, device, bounds, optimizer, seed, settings, substeps, None, overrides, None, mask,
-                         (), True, widen)
+                         (), True, widen, force_zero=force_zero)
         start = layout.expand(pfit.named())
         evals, widened = pfit.evaluations, dict(pfit.widened)
     elif start is None and nested and model.effects:
         parent = model.without_effect(model.effects[-1].name)
         pfit = fit_model(parent, device, bounds, optimizer, seed, settings, substeps, None,
                          {k: v for k, v in overrides.items() if k in parent.names}, None, mask,
-                         [n for n in per_test if n in parent.names], True, widen)
+                         [n for n in per_test if n in parent.names], True, widen, force_zero=force_zero)
         start = nested_start(model, device, pfit.names, pfit.params, per_test)
         evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), Parent(parent.spec, float(pfit.of))
     before, flat = None, []
@@ -108,9 +112,12 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
         widened = {**widened, **more}
         start = fit.params
     wall_s = time.perf_counter() - t0
-    test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0]) for k, t in enumerate(device.tests)]
+    test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0], force_zero=force_zero)
+               for k, t in enumerate(device.tests)]
+    zero = (zero_mod.values(model, device, layout, fit.params, residual_weights(device, mask)) if force_zero
+            else None)
     return replace(fit, evaluations=evals, wall_s=wall_s, widened=widened, parent=parent_of, flat_ends=flat,
-                   test_of=test_of)
+                   test_of=test_of, zero=zero)
 
 
 def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, settings, substeps, on_generation,
@@ -185,13 +192,14 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
     space = Space.of(b, log)
 
     weights = residual_weights(device, mask)
+    pins = zero_mod.pins(device, weights) if layout.zero else None
 
     def evaluate(X):
-        of = joint_objective(model, device, layout, space.to_params(X), mask, substeps, weights)
+        of = joint_objective(model, device, layout, space.to_params(X), mask, substeps, weights, pins)
         return np.where(np.isfinite(of), of, np.inf)
 
     def residuals(X):
-        return joint_residuals(model, device, layout, space.to_params(X), mask, substeps, weights)
+        return joint_residuals(model, device, layout, space.to_params(X), mask, substeps, weights, pins)
 
     return mode, b, space, evaluate, residuals
 
@@ -204,33 +212,42 @@ def residual_weights(device, mask=None) -> list:
 
 
 def joint_residuals(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1,
-                    weights: list | None = None) -> np.ndarray:
+                    weights: list | None = None, pins: list | None = None) -> np.ndarray:
     """The weighted residuals (pop, sum n_t) of every test, whose absolute sum
     is ``joint_objective``: w_k c (F_model - F) test after test
-    (``weights``: ``residual_weights(device, mask)``, computed once)."""
+    (``weights``: ``residual_weights(device, mask)``, computed once); with
+    ``layout.zero``, w_k c (F_model + zero - F), each test's force zero
+    profiled out (``fit.zero``; ``pins``: ``fit.zero.pins(device, weights)``)."""
     weights = residual_weights(device, mask) if weights is None else weights
-    parts = [c * (model.force(test, layout.for_test(P, k), substeps) - test.F)
-             for k, (test, c) in enumerate(zip(device.tests, weights)) if c is not None]
+    if layout.zero and pins is None:
+        pins = zero_mod.pins(device, weights)
+    parts = []
+    for k, (test, c) in enumerate(zip(device.tests, weights)):
+        if c is None:
+            continue
+        e = model.force(test, layout.for_test(P, k), substeps) - test.F
+        parts.append(c * (pins[k].remove(e) if layout.zero else e))
     return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
 
 
 def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: int = 1,
-                    weights: list | None = None) -> np.ndarray:
+                    weights: list | None = None, pins: list | None = None) -> np.ndarray:
     """Eq. 18 on each test, weighted by the device's weights: (pop,) for P (pop, n_cols).
     ``mask``: one boolean array (a single test) or a list (per test, None: all samples)."""
-    return np.abs(joint_residuals(model, device, layout, P, mask, substeps, weights)).sum(axis=-1)
+    return np.abs(joint_residuals(model, device, layout, P, mask, substeps, weights, pins)).sum(axis=-1)
 
 
 def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "auto",
-                 per_test=(), overrides: dict | None = None) -> tuple[np.ndarray, float]:
+                 per_test=(), overrides: dict | None = None, *, force_zero: bool = False) -> tuple[np.ndarray, float]:
     """From ``start`` (parameters) inside the model's bounds (``overrides``:
     {name: (lower, upper)} replacing some, e.g. a fit's widened ones),
     minimise the OF (of the ``mask``ed samples): (parameters, OF), never
     worse than ``start``'s.  The local search's least squares from that start alone
     (``fit.local``; also for a model that declares ``global_search``: the
-    start is an optimum of a nearby problem, in the right basin)."""
+    start is an optimum of a nearby problem, in the right basin).
+    ``force_zero``: with each test's force zero beside it (``fit.zero``)."""
     device = as_device(record)
-    layout = Layout(model, tuple(device.test_names), tuple(per_test))
+    layout = Layout(model, tuple(device.test_names), tuple(per_test), force_zero)
     _, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask)
     start = np.clip(np.asarray(start, dtype=float), b[:, 0], b[:, 1])
     found = run_local(evaluate, residuals, space.n, np.random.default_rng(0), FROM_START, None,
@@ -240,10 +257,11 @@ def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "aut
 
 
 
-def evaluate_params(model, record, params, mask=None, per_test=()) -> float:
+def evaluate_params(model, record, params, mask=None, per_test=(), *, force_zero: bool = False) -> float:
     """The OF (eq. 18; of the ``mask``ed samples; a device's weighted mean) of
-    one parameter vector, inf when not finite."""
+    one parameter vector, inf when not finite (``force_zero``: with each
+    test's force zero profiled out, ``fit.zero``)."""
     device = as_device(record)
-    layout = Layout(model, tuple(device.test_names), tuple(per_test))
+    layout = Layout(model, tuple(device.test_names), tuple(per_test), force_zero)
     of = float(joint_objective(model, device, layout, np.asarray(params, dtype=float)[None, :], mask)[0])
     return of if np.isfinite(of) else float("inf")

@@ -60,6 +60,12 @@ identified when its interval reaches a bound of its search, or when the
 law declares it a factor of a derived quantity (law 8's mu and N: only
 mu*N acts; their intervals are their search ranges, the product gets its
 own interval).
+
+With the tests' force zero fitted beside the model (``Layout.zero``,
+``fit.zero``), the replicas carry the calibration's zero, every refit
+profiles it out as the calibration did, and each replica's zero at its
+estimate gives the zero's own intervals (``Intervals.zero``): the
+parameters' intervals count the zero's uncertainty.
 """
 
 from __future__ import annotations
@@ -76,6 +82,7 @@ from .api import evaluate_params, joint_objective, joint_residuals, polish_model
 from .layout import Layout
 from .local import line_search
 from .search import Evaluations
+from . import zero as zero_mod
 
 #: bootstrap replicates of a calibration
 REPLICATES = 20
@@ -122,9 +129,11 @@ class Intervals:
     replicates: int = 0
     noise_of: float = float("nan")  # mean OF of the calibrated model on the replicates: what noise alone gives
     note: str = ""  # the fit misses the record beyond the noise: the intervals count the noise only
+    zero: dict = field(default_factory=dict)  # {test: {F0: {value, stderr, ci95}, F1: ...}}: the tests' force zero
 
     def as_dict(self) -> dict:
         return {"replicates": self.replicates, "method": "bootstrap of the measurement chain (fit.intervals)",
+                **({"zero": self.zero} if self.zero else {}),
                 "noise_of": float(self.noise_of), "note": self.note,
                 "parameters": {n: {"stderr": float(s), "bias": float(b), "ci95": [float(lo), float(hi)]}
                                for n, s, b, (lo, hi) in zip(self.names, self.stderr, self.bias, self.ci95)},
@@ -168,32 +177,49 @@ def _replicates(record, F_clean: np.ndarray, clean: Record, sigma_F: float, coun
 
 
 def intervals(model, record, params, per_test=(), bounds=None, replicates: int = REPLICATES, seed=0,
-              progress=None, of: float | None = None) -> Intervals:
+              progress=None, of: float | None = None, *, force_zero: bool = False) -> Intervals:
     """Bootstrap intervals of a calibration: ``params`` (the fit's columns) of
     ``model`` on ``record`` (a Record or a Device); ``bounds`` (n, 2): the
     fit's search bounds (an interval reaching one is not identified);
     ``of``: the fit's OF, compared with what noise alone gives (``note``).
-    The three steps (``bootstrap_replicas``, ``newton_refits``,
+    ``force_zero``: the tests' force zero fitted beside the model (module
+    docstring).  The three steps (``bootstrap_replicas``, ``newton_refits``,
     ``from_estimates``) may run apart: a campaign spreads the refits over
     its processes."""
-    layout, replicas, noise = bootstrap_replicas(model, record, params, per_test, replicates, seed)
+    layout, replicas, noise = bootstrap_replicas(model, record, params, per_test, replicates, seed,
+                                                 force_zero=force_zero)
     estimates, ofs = newton_refits(model, layout, replicas, params, noise, bounds, progress)
-    return from_estimates(model, layout, params, estimates, float(np.mean(ofs)), bounds, of)
+    return from_estimates(model, layout, params, estimates, float(np.mean(ofs)), bounds, of,
+                          zero=fitted_zero(model, record, layout, params))
 
 
-def bootstrap_replicas(model, record, params, per_test=(), replicates: int = REPLICATES, seed=0):
+def fitted_zero(model, record, layout, params) -> dict | None:
+    """{test: (F0 [kN], F1 [kN/s])} of ``params`` on ``record`` when the
+    layout fits the tests' force zero (None: it does not)."""
+    if not layout.zero:
+        return None
+    device = as_device(record)
+    return zero_mod.values(model, device, layout, params, residual_weights(device))
+
+
+def bootstrap_replicas(model, record, params, per_test=(), replicates: int = REPLICATES, seed=0, *,
+                       force_zero: bool = False):
     """(layout, replicas, noise): ``replicates`` lab-like replicas of
     ``record`` (Devices of one replicate per test) had ``params`` been the
-    truth, and each test's force noise [kN]."""
+    truth (with ``force_zero``, and each test's fitted force zero), and
+    each test's force noise [kN]."""
     device = as_device(record)
-    layout = Layout(model, tuple(device.test_names), tuple(per_test))
+    layout = Layout(model, tuple(device.test_names), tuple(per_test), force_zero)
     params = np.asarray(params, dtype=float)
     rng = np.random.default_rng(seed)
     count = int(replicates)
+    zero = fitted_zero(model, device, layout, params) or {}
     per_test_reps = []
     for k, test in enumerate(device.tests):
         clean = smoothed(test)
         F_clean = model.force(clean, layout.for_test(params[None, :], k))[0]
+        if test.name in zero:
+            F_clean = F_clean + zero_mod.zero_force(*zero[test.name], test.t)
         per_test_reps.append(_replicates(test, F_clean, clean, force_noise(test.F), count, rng,
                                          acceleration=bool(model.effects)))
     noise = [force_noise(test.F) for test in device.tests]
@@ -203,10 +229,16 @@ def bootstrap_replicas(model, record, params, per_test=(), replicates: int = REP
 
 
 def from_estimates(model, layout, params, estimates: np.ndarray, noise_of: float, bounds=None,
-                   of: float | None = None) -> Intervals:
-    """The Intervals of the replicas' estimates (B, n); ``noise_of``: the
-    mean OF of ``params`` on them; ``of``: the fit's (``note``)."""
-    out = summarize(model, layout, np.asarray(params, dtype=float), estimates, bounds)
+                   of: float | None = None, zero: dict | None = None) -> Intervals:
+    """The Intervals of the replicas' estimates (B, n; with the tests' force
+    zero, (B, n + 2 n_tests): each test's F0, F1 after the parameters);
+    ``noise_of``: the mean OF of ``params`` on them; ``of``: the fit's
+    (``note``); ``zero``: the fitted zero {test: (F0, F1)} (``fitted_zero``)."""
+    params = np.asarray(params, dtype=float)
+    estimates = np.asarray(estimates, dtype=float)
+    out = summarize(model, layout, params, estimates[:, :params.size], bounds)
+    if zero:
+        out.zero = zero_intervals(zero, estimates[:, params.size:])
     out.noise_of = noise_of
     if of is not None and of > MISFIT * out.noise_of:
         out.note = (f"OF {of:.4g} is {of / out.noise_of:.1f}x what the noise alone gives ({out.noise_of:.4g}): "
@@ -215,14 +247,32 @@ def from_estimates(model, layout, params, estimates: np.ndarray, noise_of: float
     return out
 
 
+def zero_intervals(zero: dict, estimates: np.ndarray) -> dict:
+    """{test: {F0: {value, unit, stderr, ci95}, F1: ...}} of the fitted zero
+    {test: (F0, F1)} from the replicas' zeros (B, 2 n_tests), as
+    ``summarize`` does the parameters' (a drift held at 0: its value)."""
+    out = {}
+    for j, (test, fitted) in enumerate(zero.items()):
+        out[test] = {}
+        for i, (name, unit) in enumerate((("F0", "kN"), ("F1", "kN/s"))):
+            value, b = float(fitted[i]), estimates[:, 2 * j + i]
+            bias = float(b.mean() - value)
+            stderr = float(np.hypot(b.std(ddof=1), BIAS_SHARE * bias)) if len(b) > 1 else 0.0
+            out[test][name] = {"value": value, "unit": unit, "stderr": stderr,
+                               "ci95": [value - bias - Z95 * stderr, value - bias + Z95 * stderr]}
+    return out
+
+
 def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list, bounds=None,
                   progress=None) -> tuple[np.ndarray, np.ndarray]:
     """Each replica's (a Record or Device) estimate (B, n) by Newton steps
     from ``params`` (module docstring), and the OF of ``params`` on each
     replica (B,): what the noise alone gives.  ``noise``: per test, its
-    force noise [kN]."""
+    force noise [kN].  With the tests' force zero (``layout.zero``) each
+    row goes on with the replica's zero at its estimate (F0, F1 per test)."""
     replicas = [as_device(r) for r in replicas]
     estimates = np.repeat(np.asarray(params, dtype=float)[None, :], len(replicas), axis=0)
+    zeros = []
     ofs = np.zeros(len(replicas))
     stepped = layout.stepped
     misses = 0  # replicas in a row whose steps did not settle
@@ -232,14 +282,17 @@ def newton_refits(model, layout, replicas: list, params: np.ndarray, noise: list
             if settled is not None and stepped:
                 settled = _along_steps(model, layout, replica, settled, noise, bounds, stepped)
         else:  # the steps would not settle here either (a cost that is not smooth: a gap's dead zone)
-            settled, ofs[b] = None, evaluate_params(model, replica, params, per_test=layout.per_test)
+            settled, ofs[b] = None, evaluate_params(model, replica, params, per_test=layout.per_test,
+                                                    force_zero=layout.zero)
         misses = 0 if settled is not None else misses + 1
         estimates[b] = (settled if settled is not None
                         else polish_model(model, replica, params, per_test=layout.per_test,
-                                          overrides=_fixed(layout.names, bounds))[0])
+                                          overrides=_fixed(layout.names, bounds), force_zero=layout.zero)[0])
+        if layout.zero:
+            zeros.append(np.ravel(list(fitted_zero(model, replica, layout, estimates[b]).values())))
         if progress:
             progress(b + 1)
-    return estimates, ofs
+    return np.hstack([estimates, np.reshape(zeros, (len(replicas), -1))]), ofs
 
 
 def _fixed(names: list, bounds) -> dict:
@@ -256,9 +309,10 @@ def _along_steps(model, layout, replica, x: np.ndarray, noise: list, bounds, ste
     Newton steps again from there, until the line search moves it no more
     (STEPPED_ROUNDS at most)."""
     weights = residual_weights(replica)
+    pins = zero_mod.pins(replica, weights) if layout.zero else None
 
     def evaluate(P):
-        of = joint_objective(model, replica, layout, P, weights=weights)
+        of = joint_objective(model, replica, layout, P, weights=weights, pins=pins)
         return np.where(np.isfinite(of), of, np.inf)
 
     for _ in range(STEPPED_ROUNDS):
@@ -290,11 +344,12 @@ def _newton(model, layout, replica, params: np.ndarray, noise: list, bounds=None
     h = np.where(free, FD_SHARE * np.maximum(np.abs(params), 1e-9), 0.0)
     nudges = np.diag(h)[free]
     weights = residual_weights(replica)
+    pins = zero_mod.pins(replica, weights) if layout.zero else None
     scale = np.concatenate([SOFT_SHARE * s * np.abs(c) for s, c in zip(noise, weights) if c is not None])
     x, of0 = np.asarray(params, dtype=float), None
     last_x, last_cost, step = x, np.inf, np.zeros(n)
     for _ in range(2 * NEWTON_STEPS):
-        R = joint_residuals(model, replica, layout, np.vstack([x, x + nudges]), weights=weights)
+        R = joint_residuals(model, replica, layout, np.vstack([x, x + nudges]), weights=weights, pins=pins)
         if not np.isfinite(R).all():
             return None, of0 if of0 is not None else np.inf
         if of0 is None:

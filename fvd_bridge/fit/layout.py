@@ -3,7 +3,9 @@
 Shared parameters appear once; a parameter freed per test (``--per-test``:
 a band tension, a temperature-dependent friction) appears once per test:
 the model's vector holds the first test's value, and 'NAME@TEST' columns
-after it hold the other tests' values.
+after it hold the other tests' values.  The tests' force zero
+(``fit.zero``), when fitted, is profiled out of the objective: it has no
+columns.
 """
 
 from __future__ import annotations
@@ -21,11 +23,13 @@ SEP = "@"
 @dataclass(frozen=True)
 class Layout:
     """Columns of the fitted vector for ``model`` on tests ``tests`` with the
-    parameters ``per_test`` freed per test."""
+    parameters ``per_test`` freed per test; ``zero``: each test's force zero
+    fitted beside them as a nuisance (``fit.zero``: no columns)."""
 
     model: object  # fvd_bridge.model.Model
     tests: tuple
     per_test: tuple = ()
+    zero: bool = False
 
     def __post_init__(self):
         for name in self.per_test:

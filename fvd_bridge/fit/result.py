@@ -44,6 +44,7 @@ class FitResult:
     parent: Parent | None = None  # the nested fit it started from
     stop: str = ""  # why the search stopped (the back-end's ``Search.stop``)
     flat_ends: list = field(default_factory=list)  # parameters whose bound widened without lowering the OF
+    zero: dict | None = None  # {test: (F0 [kN], F1 [kN/s])}: the tests' force zero fitted beside it (fit.zero)
 
     @property
     def parameters(self) -> dict[str, FittedParameter]:

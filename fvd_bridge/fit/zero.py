@@ -1,0 +1,119 @@
+"""The tests' force zero: a nuisance of the measurement, profiled out of eq. 18, never exported.
+
+A load cell is zeroed before a test day, its zero moves from day to day and
+drifts slowly during a test (temperature, the amplifier).  What it reads is
+
+    F_measured = F_device + F0 + F1 (t - t_mid),    t_mid = (t_start + t_end) / 2
+
+with a force offset F0 [kN] and a drift F1 [kN/s], one pair per test
+(``zero_force``).  Both belong to the test, not to the device: they never
+enter a Model, so no spec or exporter carries them; a calibration file
+keeps them in a block of their own.
+
+The zero is profiled, not searched: for the model's parameters of the
+moment, each test's zero is the least-squares line (weights: eq. 18's)
+through its residual F_measured - F_model over the samples that pin it
+(``ZeroPin``), and eq. 18 sums what is left, F_model + zero - F_measured.
+Every optimizer, the bootstrap's Newton refits and a campaign's runs fit
+the same objective with it (``Layout.zero``, ``fit.api.joint_residuals``).
+
+The rests are the evidence of the zero: there the actuator holds still
+(``records.velocity.rest_mask``: v = a = 0 as read), the model's force is
+its force at rest, and what the load cell reads beyond it is the zero
+itself, with no misfit of the law's to take it up.  So:
+
+    rests at both ends, at least BOTH_ENDS of the test's duration apart:
+        F0 and F1 from the rests alone (a line through them);
+    rests at one end (or close together): F0 from the rests, F1 = 0
+        (one end cannot tell a drift);
+    no rests: F0 and F1 from the whole motion.
+
+The rests stay in eq. 18 (every sample counts); they only pin the zero.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..records.velocity import rest_mask
+
+#: rests pin the drift too when they lie this share of the test's duration apart (start and end)
+BOTH_ENDS = 0.5
+#: how a test's zero is pinned, per ``ZeroPin.how``
+PINNED = {"both": "its rests at both ends", "one": "its rests (at one end: no drift)", "motion": "its motion"}
+
+
+def zero_force(F0, F1, t) -> np.ndarray:
+    """The load cell's zero F0 + F1 (t - t_mid) [kN] on the test's clock t [s]
+    (t_mid its middle); F0 [kN], F1 [kN/s] scalars or (pop, 1) columns."""
+    t = np.asarray(t, dtype=float)
+    return F0 + F1 * (t - 0.5 * (t[0] + t[-1]))
+
+
+@dataclass(frozen=True)
+class ZeroPin:
+    """One test's zero as a linear map of its residual (module docstring):
+    ``basis`` (n, k) the columns [1, t - t_mid] it has (k = 1: no drift),
+    ``fit`` (k, n) the weighted least squares over the samples that pin it
+    (zeros elsewhere), ``how`` a key of PINNED."""
+
+    basis: np.ndarray
+    fit: np.ndarray
+    how: str
+
+    @classmethod
+    def of(cls, test, c: np.ndarray) -> "ZeroPin":
+        """The pin of ``test`` whose eq. 18 weights are ``c`` (n,) (zero
+        outside a mask: those samples neither pin nor count)."""
+        counted = np.asarray(c) > 0
+        still = rest_mask(test) & counted
+        tm = test.t - 0.5 * (test.t[0] + test.t[-1])
+        how, on = ("motion", counted) if not still.any() else (_rests_reach(test, still), still)
+        basis = np.column_stack([np.ones(test.n), tm] if how != "one" else [np.ones(test.n)])
+        w = np.where(on, np.abs(c), 0.0)
+        normal = (basis * w[:, None]).T @ basis
+        return cls(basis, np.linalg.pinv(normal) @ (basis * w[:, None]).T, how)
+
+    def zero(self, r: np.ndarray) -> np.ndarray:
+        """(pop, 2) (F0 [kN], F1 [kN/s]) of residuals r (pop, n) = F_measured - F_model."""
+        z = np.atleast_2d(r) @ self.fit.T
+        return z if z.shape[1] == 2 else np.column_stack([z[:, 0], np.zeros(len(z))])
+
+    def remove(self, e: np.ndarray) -> np.ndarray:
+        """F_model + zero - F_measured of e (pop, n) = F_model - F_measured: what eq. 18 sums."""
+        return e - (e @ self.fit.T) @ self.basis.T
+
+
+def _rests_reach(test, still: np.ndarray) -> str:
+    """'both' when ``test``'s rests lie at both ends, BOTH_ENDS of its duration apart, else 'one'."""
+    mid = 0.5 * (test.t[0] + test.t[-1])
+    groups = [g for g in (still & (test.t < mid), still & (test.t >= mid)) if g.any()]
+    if len(groups) < 2:
+        return "one"
+    ta, tb = (float(np.median(test.t[g])) for g in groups)
+    return "both" if tb - ta >= BOTH_ENDS * (test.t[-1] - test.t[0]) else "one"
+
+
+def pins(device, weights: list) -> list:
+    """Per test, its ZeroPin (None for a test of weight 0); ``weights``:
+    ``fit.api.residual_weights``."""
+    return [None if c is None else ZeroPin.of(test, c) for test, c in zip(device.tests, weights)]
+
+
+def values(model, device, layout, params, weights: list) -> dict:
+    """{test: (F0 [kN], F1 [kN/s])}: each test's zero at one parameter row
+    (the fit's columns)."""
+    P = np.asarray(params, dtype=float)[None, :]
+    out = {}
+    for k, (test, pin) in enumerate(zip(device.tests, pins(device, weights))):
+        if pin is not None:
+            z = pin.zero(test.F[None, :] - model.force(test, layout.for_test(P, k)))[0]
+            out[test.name] = (float(z[0]), float(z[1]))
+    return out
+
+
+def how_pinned(device, weights: list) -> dict:
+    """{test: how its zero is pinned (PINNED's words)}."""
+    return {t.name: PINNED[p.how] for t, p in zip(device.tests, pins(device, weights)) if p is not None}
