@@ -3,6 +3,7 @@
 import csv
 import hashlib
 import json
+import re
 import subprocess
 import sys
 
@@ -193,3 +194,16 @@ def test_window_keeps_part_of_the_record(two_devices, tmp_path):
     # eq. 18 on the window, computed here: integral |F - F_model| dt / (sigma_F (t1 - t0))
     err = np.trapezoid(np.abs(part.F - cal.force(part)), part.t) / (np.std(part.F) * (part.t[-1] - part.t[0]))
     assert cal.of == pytest.approx(float(err), rel=1e-6)
+
+
+def test_one_device_table_promises_no_statistic_it_does_not_show(two_devices, tmp_path):
+    """One device, runs that agree: the table is not headed 'Mean (sigma)', and no note speaks of
+    beta_r, which one device does not have (a friction of nil would be 'kept out of beta')."""
+    res = calibrate([two_devices[0], "--laws", "2,2+friction", "--runs", "2", "--out", str(tmp_path / "one"),
+                     "--jobs", "1", "--quiet", "--no-figures"])
+    assert res.returncode == 0, res.stderr
+    table = res.stdout.split("\n\n")[1]
+    assert "Mean over runs" in res.stdout and "(sigma)" not in res.stdout, res.stdout
+    assert not re.search(r"\d \([-+.\de]+\)$", table, re.M), table  # no cell shows a sigma
+    assert "Robustness notes" not in res.stdout and "kept out of beta" not in res.stdout, res.stdout
+    assert "beta_r (the robustness index) and the Pareto front" in res.stdout

@@ -9,7 +9,7 @@ are series material: with one device they are not printed.
 
 from __future__ import annotations
 
-from ..report.numbers import rounded, with_spread
+from ..report.numbers import has_spread, rounded, with_spread
 
 GAP = 2  # spaces between columns
 
@@ -26,14 +26,14 @@ def format_report(summary: dict) -> str:
                   + [row[0] for m in models.values() for row in _test_rows(m, len(devices))])
     w_model, w_q = _width(labels, 5) + GAP, _width(quantities, 8) + GAP
     w_cell = max(_width(devices), 20) + GAP  # '1.2345e+05 (1.2e+03)'
-    lines = ["", "Mean (sigma) over runs of OF and parameters (cf. paper Table A.7)", ""]
+    rows = {spec: _rows(m, len(devices)) for spec, m in models.items()}
+    spread = any(has_spread(mean[i], sigma[i]) for r in rows.values() for _, mean, sigma in r
+                 for i in range(len(devices)))
+    lines = ["", _table_title(spread), ""]
     head = f"{'model':<{w_model}}{'quantity':<{w_q}}" + "".join(f"{d:>{w_cell}}" for d in devices)
     lines += [head, "-" * len(head)]
-    for spec, m in models.items():
-        rows = [("OF", m["of_mean"], m["of_sigma"])] + _test_rows(m, len(devices))
-        rows += [(f"{n} [{u}]", m["p_mean"][:, j], m["p_sigma"][:, j])
-                 for j, (n, u) in enumerate(zip(m["names"], m["units"]))]
-        for k, (q, mean, sigma) in enumerate(rows):
+    for spec, model_rows in rows.items():
+        for k, (q, mean, sigma) in enumerate(model_rows):
             label = f"law {spec}" if k == 0 else ""
             cells = "".join(f"{with_spread(mean[i], sigma[i]):>{w_cell}}" for i in range(len(devices)))
             lines.append(f"{label:<{w_model}}{q:<{w_q}}{cells}")
@@ -51,6 +51,20 @@ def format_report(summary: dict) -> str:
         lines += ["", "Warnings:"]
         lines += [f"  law {spec}, {dev}: {msg}" for spec, dev, msg in warn]
     return "\n".join(lines)
+
+
+def _rows(m: dict, n_devices: int) -> list:
+    """A model's rows of the table: (quantity, mean per device, sigma over runs per device)."""
+    rows = [("OF", m["of_mean"], m["of_sigma"])] + _test_rows(m, n_devices)
+    return rows + [(f"{n} [{u}]", m["p_mean"][:, j], m["p_sigma"][:, j])
+                   for j, (n, u) in enumerate(zip(m["names"], m["units"]))]
+
+
+def _table_title(spread: bool) -> str:
+    """The table's title: a sigma is promised only where one is shown."""
+    if spread:
+        return "Mean (sigma) over runs of OF and parameters (cf. paper Table A.7; a mean alone: the runs agree)"
+    return "Mean over runs of OF and parameters (cf. paper Table A.7; the runs agree: no sigma to show)"
 
 
 def _runs_lines(models: dict, asked: int | None) -> list:
@@ -79,7 +93,8 @@ def _test_rows(m: dict, n_devices: int) -> list:
 
 def _pareto_lines(models: dict, w_model: int, n_devices: int) -> list:
     """Per model: mean OF, the robustness index beta_r (paper eq. 23; 'beta_r', not a
-    law's parameter beta) and the Pareto flag; the Pareto set; the robustness notes."""
+    law's parameter beta) and the Pareto flag; the Pareto set; the robustness
+    notes (about beta_r: with one device, neither is shown)."""
     if n_devices < 2:
         lines = [f"{'model':<{w_model}}{'OF':>10}  (best first)"]
         lines += [f"{'law ' + spec:<{w_model}}{rounded(m['of_overall']):>10}"
@@ -93,9 +108,9 @@ def _pareto_lines(models: dict, w_model: int, n_devices: int) -> list:
                          f"{'non-dominated' if m['non_dominated'] else ''}")
         front = [s for s, m in models.items() if m["non_dominated"]]
         lines.append(f"Pareto set (accuracy vs robustness): {', '.join('law ' + s for s in front)}")
-    notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]
-    if notes:
-        lines += ["", "Robustness notes:"] + [f"  law {spec}, {note}" for spec, note in notes]
+        notes = [(spec, note) for spec, m in models.items() for note in m.get("notes", [])]  # about beta_r
+        if notes:
+            lines += ["", "Robustness notes:"] + [f"  law {spec}, {note}" for spec, note in notes]
     return lines
 
 

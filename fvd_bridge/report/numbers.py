@@ -103,13 +103,20 @@ def cell(value) -> str:
     return rounded(x)
 
 
+def has_spread(value, spread) -> bool:
+    """Whether ``with_spread`` shows ``spread`` beside ``value``: a finite
+    spread above a millionth of the value."""
+    return (value is not None and spread is not None and math.isfinite(float(spread))
+            and abs(float(spread)) > 1e-6 * abs(float(value)))
+
+
 def with_spread(value, spread) -> str:
     """'45.41 (0.05)': a mean rounded to its spread (a sigma over runs,
     ``rounded``) and the spread to two significant digits; the mean alone,
-    to ``DEFAULT_DIGITS``, when the spread is nil (below a millionth of it)."""
+    to ``DEFAULT_DIGITS``, when the spread is nil (``has_spread``)."""
     if value is None:
         return ""
-    if spread is None or not math.isfinite(float(spread)) or abs(float(spread)) <= 1e-6 * abs(float(value)):
+    if not has_spread(value, spread):
         return rounded(value)
     return f"{rounded(value, spread)} ({rounded(spread, digits=2)})"
 
