@@ -26,6 +26,7 @@ from .diagnose import diagnose as run_diagnosis
 from .errors import FitWarning, InputError
 from .fit import DEFAULT_OPTIMIZER, settings_for
 from .fit.intervals import REPLICATES
+from .fit.zero import FORCE_ZERO
 from .records.device import Device
 from .records.record import Record
 
@@ -48,7 +49,8 @@ def _model(model_or_spec, plugins=()):
 def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
               bounds="auto", device: str | None = None, per_test=(), start: Calibration | dict | None = None,
               intervals: int = REPLICATES, plugins=(), pop: int | None = None,
-              gens: int | None = None, fixed: dict | None = None, all_runs: bool = False) -> Calibration:
+              gens: int | None = None, fixed: dict | None = None, all_runs: bool = False, *,
+              force_zero: str = "none") -> Calibration:
     """Calibrate a model on one record or on the tests of one device.
 
     Parameters
@@ -88,6 +90,11 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
         Optimizer settings (None: the defaults).
     all_runs : bool
         Make every run, also when the first 2 ended on one optimum.
+    force_zero : {"none", "per-test"}
+        ``"per-test"``: fit each test's force zero (an offset F0 [kN] and a
+        drift F1 [kN/s], ``fit.zero``) beside the model as a nuisance of the
+        measurement: never part of the model, never exported
+        (``.force_zero``, with intervals).
 
     Returns
     -------
@@ -98,6 +105,8 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
         m = _model(model, plugins)
         if int(runs) < 1:
             raise InputError(f"runs={runs}: must be at least 1")
+        if force_zero not in FORCE_ZERO:
+            raise InputError(f"force_zero={force_zero!r}: expected one of {', '.join(map(repr, FORCE_ZERO))}")
         record = as_tests(records, device)
         mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
         values = dict(start) if isinstance(start, dict) else {}
@@ -121,7 +130,7 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
                               bound_overrides=tuple((None, n, lo, hi) for n, (lo, hi) in overrides.items()),
                               per_test=tuple((None, n) for n in per_test), start=extends,
                               start_values=tuple((None, n, float(v)) for n, v in values.items()),
-                              intervals=int(intervals), all_runs=bool(all_runs))
+                              intervals=int(intervals), all_runs=bool(all_runs), force_zero=force_zero)
         if cs.model(m.spec).names != m.names:
             raise InputError(f"model {m.spec}: give it as a spec (with plugins= for effects of your own)")
         cal = calibrate_one(record, cs)

@@ -21,6 +21,7 @@ from . import schema, tested as tested_mod, text
 from .parts import BootstrapIntervals, RecordSource, RunStats, SolverStatus, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
+from .zero import ForceZero
 from .text import REPORTED_CORRELATION, per_test_text
 
 
@@ -45,6 +46,7 @@ class Calibration:
     device: str = ""
     intervals: BootstrapIntervals | None = None  # the parameters' intervals (fit.intervals; None: none)
     solver: SolverStatus | None = None  # how the best run's search ended (None: not recorded)
+    force_zero: ForceZero | None = None  # the tests' force zero fitted beside the model (never exported; None: not)
     records: list = field(default_factory=list, repr=False, compare=False)  # the Records fitted (not saved)
 
     def __post_init__(self):
@@ -56,6 +58,7 @@ class Calibration:
             object.__setattr__(self, "record", RecordSource.from_dict(self.record))
         object.__setattr__(self, "runs", RunStats.from_dict(self.runs))
         object.__setattr__(self, "intervals", BootstrapIntervals.from_dict(self.intervals))
+        object.__setattr__(self, "force_zero", ForceZero.from_dict(self.force_zero))
 
     def __repr__(self) -> str:
         return f"<Calibration {self.spec} of {self.device or self.record.name or '?'}: OF {self.of:.4g}>"
@@ -417,7 +420,8 @@ class Calibration:
             Statistics over repeated runs: {of_mean, of_sigma, p_mean, p_sigma}
             (the parameter vectors may hold the per-test columns after the model's).
         intervals : Intervals, optional
-            The parameters' intervals (``fit.intervals``).
+            The parameters' intervals (``fit.intervals``; with the fit's
+            force zero, the zero's too).
         """
         device = as_device(record)
         n = len(model.names)
@@ -436,6 +440,7 @@ class Calibration:
                    device=device.name,
                    intervals=None if intervals is None else BootstrapIntervals.from_dict(intervals.as_dict()),
                    solver=SolverStatus(fit.optimizer, fit.stop, int(fit.evaluations)),
+                   force_zero=_force_zero(fit, device, intervals),
                    records=list(device.tests))
 
     def to_dict(self) -> dict:
@@ -505,3 +510,14 @@ def _intervals_on(intervals, test: str, first: str, per_test: tuple):
         own.update({n: intervals.parameters[f"{n}{SEP}{test}"] for n in per_test
                     if f"{n}{SEP}{test}" in intervals.parameters})
     return replace(intervals, parameters=own, correlation=None, derived=intervals.derived if test == first else {})
+
+
+def _force_zero(fit, device, intervals) -> ForceZero | None:
+    """The tests' force zero of a fit that fitted it (``FitResult.zero``),
+    with its intervals and how each test's is pinned; None: not fitted."""
+    if not fit.zero:
+        return None
+    from ..fit.api import residual_weights
+    from ..fit.zero import how_pinned
+
+    return ForceZero.of(fit.zero, getattr(intervals, "zero", None), how_pinned(device, residual_weights(device)))

@@ -29,6 +29,9 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
       name, file, format, samples, dt [s], columns {t, d, F[, v]}, window,
       source_units {t, d, F[, v]}, velocity {method, ...}, peaks {F [kN], v [mm/s], d [mm]}
     solver: {optimizer, stop, evaluations}   # how the best run's search ended (0.4: files before lack it)
+    force_zero:                          # the tests' force zero, fitted beside the model (0.4; --force-zero
+      equation, exported: false,         # per-test): never part of the model, never exported
+      tests: {TEST: {F0: {value, unit: kN, stderr, ci95}, F1: {value, unit: kN/s, ...}, pinned_by}}
     settings: {...}                      # optimizer, bounds, seed, plugins: [{file, sha256}], ...
     warnings: [...]
 
@@ -50,6 +53,7 @@ from ..errors import InputError
 from ..fit.layout import SEP
 from ..io.staging import plain
 from .parts import BootstrapIntervals, Peaks, RecordSource, RunStats, SolverStatus, TestFit
+from .zero import ForceZero
 
 SCHEMA_VERSION = 3
 READABLE_SCHEMAS = (1, 2, 3)
@@ -93,6 +97,7 @@ def to_dict(cal) -> dict:
         "tested_range": plain(cal.tested),
         "record": plain(cal.record.as_dict()),
         **({"solver": plain(cal.solver.as_dict())} if cal.solver is not None else {}),
+        **({"force_zero": plain(cal.force_zero.as_dict())} if cal.force_zero is not None else {}),
         "settings": plain({**cal.settings, "plugins": plugin_files(cal.model)}),
         "warnings": [str(w) for w in cal.warnings],
     }
@@ -136,7 +141,7 @@ def read(path: str, catalog=None, plugins=()) -> dict:
             "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
             "path": os.path.abspath(path), "tests": _tests(path, data.get("tests"), record, of),
             "device": str(data.get("device") or record.name or ""), "intervals": _intervals(data),
-            "solver": SolverStatus.from_dict(data.get("solver"))}
+            "solver": SolverStatus.from_dict(data.get("solver")), "force_zero": _force_zero(path, data)}
 
 
 def _tests(path: str, given, record: RecordSource, of: float) -> tuple:
@@ -216,3 +221,20 @@ def _parameters(path: str, given, model):
     if extra:
         raise InputError(f"{path}: key 'parameters.{extra[0]}' is not a parameter of model {model.spec}")
     return np.array(values), np.array(bounds, dtype=float).reshape(-1, 2), np.array(means), np.array(sigmas)
+
+
+def _force_zero(path: str, data: dict):
+    """The file's tests' force zero (None: not fitted): per test, F0 and F1 with a numeric value."""
+    block = data.get("force_zero")
+    if not block:
+        return None
+    tests = block.get("tests") if isinstance(block, dict) else None
+    if not isinstance(tests, dict):
+        raise InputError(f"{path}: key 'force_zero.tests' must be a mapping of test names")
+    for test, zero in tests.items():
+        for name in ("F0", "F1"):
+            entry = zero.get(name) if isinstance(zero, dict) else None
+            if not isinstance(entry, dict):
+                raise InputError(f"{path}: key 'force_zero.tests.{test}.{name}' is missing")
+            _number(path, f"force_zero.tests.{test}.{name}.value", entry.get("value"))
+    return ForceZero.from_dict(block)

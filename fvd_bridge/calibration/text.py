@@ -46,6 +46,10 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
         lines.append("    (no intervals: calibrate with intervals > 0)")
     else:
         lines += [f"    not identified: {line}" for line in cal.intervals.not_identified]
+    if cal.force_zero is not None:
+        head, *per_test = cal.force_zero.lines()
+        lines += ["[[Force zero]] " + head.removeprefix("the tests' force zero ")]
+        lines += [f"    {line}" for line in per_test]
     corr = cal.correlation
     if corr:
         names = list(corr)
@@ -80,6 +84,8 @@ def interval_lines(cal) -> list[str]:
     out += [f"{n} = {rounded(derived[n][0], d.stderr)} {derived[n][1]}, 95% {interval(*d.ci95, d.stderr)} "
             f"(stderr {rounded(d.stderr, digits=2)})" for n, d in cal.intervals.derived.items() if n in derived]
     out += [f"not identified: {line}" for line in cal.intervals.not_identified]
+    if cal.force_zero is not None:
+        out += cal.force_zero.lines()
     return out + ([f"note: {cal.intervals.note}"] if cal.intervals.note else [])
 
 

@@ -41,6 +41,7 @@ class CampaignSettings:
     start_values: tuple = field(default_factory=tuple)  # (spec or None, name, value): start values of some parameters
     intervals: int = 0  # bootstrap replicates of each calibration's parameter intervals (0: none)
     all_runs: bool = False  # make every run, also after the first ones agreed (``first_runs``)
+    force_zero: str = "none"  # 'per-test': each test's force zero fitted beside the model (fit.zero; not exported)
 
     @property
     def catalog(self):
@@ -70,6 +71,11 @@ class CampaignSettings:
             return None
         return self.start[1], self.start[2]
 
+    @property
+    def fits_zero(self) -> bool:
+        """Whether each test's force zero is fitted beside the models (``force_zero`` 'per-test')."""
+        return self.force_zero == "per-test"
+
     def start_values_for(self, spec: str) -> dict:
         """{name: value} of the --start-value options that apply to ``spec``."""
         names = self.model(spec).names
@@ -83,6 +89,7 @@ class CampaignSettings:
                 "bound_overrides": [list(o) for o in self.bound_overrides],
                 "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
                 "all_runs": self.all_runs, "start_values": [list(o) for o in self.start_values],
+                "force_zero": self.force_zero,
                 "start": None if self.start is None else {"model": self.start[0],
                                                           "values": dict(zip(self.start[1], self.start[2]))}}
 
@@ -179,7 +186,7 @@ def refit_task(key: tuple, first: int, cs, per_test, replicas, params, noise, bo
     """The Newton refits (fit.intervals.newton_refits) of replicas ``first``,
     ``first`` + 1, ... of one (device, model) calibration: (estimates, OFs)."""
     model = cs.model(key[1])
-    layout = Layout(model, tuple(as_device(replicas[0]).test_names), tuple(per_test))
+    layout = Layout(model, tuple(as_device(replicas[0]).test_names), tuple(per_test), cs.fits_zero)
     return newton_refits(model, layout, replicas, params, noise, bounds)
 
 
@@ -200,8 +207,9 @@ def run_intervals(records, results: dict, cs: CampaignSettings, executor=None, p
             key, best = (rec.name, spec), min(results[(rec.name, spec)], key=lambda r: r.of)
             per_test = cs.per_test_for(spec)
             layout, replicas, noise = bootstrap_replicas(cs.model(spec), rec, best.params, per_test, cs.intervals,
-                                                         seed=[cs.seed, 7])
-            drawn[key] = (layout, best, np.zeros((len(replicas), best.params.size)), np.zeros(len(replicas)))
+                                                         seed=[cs.seed, 7], force_zero=cs.fits_zero)
+            width = best.params.size + 2 * len(best.zero or {})  # the tests' force zero after the parameters
+            drawn[key] = (layout, best, np.zeros((len(replicas), width)), np.zeros(len(replicas)))
             items += [(key, b, cs, per_test, replicas[b:b + REPLICAS_PER_TASK], best.params, noise, best.bounds)
                       for b in range(0, len(replicas), REPLICAS_PER_TASK)]
     bar = progress_bar(len(drawn) * cs.intervals, progress, unit="replicate",
@@ -215,5 +223,5 @@ def run_intervals(records, results: dict, cs: CampaignSettings, executor=None, p
     finally:
         bar.close()
     return {key: from_estimates(cs.model(key[1]), layout, best.params, estimates, float(np.mean(ofs)), best.bounds,
-                                best.of)
+                                best.of, best.zero)
             for key, (layout, best, estimates, ofs) in drawn.items()}

@@ -53,4 +53,4 @@ def run_task(task: Task, record, cs):
              else cs.start_values_for(task.spec) or None)
     return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
                      settings=settings, overrides=overrides, per_test=per_test, start=start,
-                     on_generation=reporter(task.id))
+                     on_generation=reporter(task.id), force_zero=cs.fits_zero)

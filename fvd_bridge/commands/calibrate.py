@@ -19,6 +19,7 @@ from ..errors import InputError
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS, settings_for
 from ..fit.intervals import REPLICATES
+from ..fit.zero import FORCE_ZERO
 from ..io.staging import check_output
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
 from ..records.device import Device
@@ -81,6 +82,10 @@ def add_campaign_options(p):
     p.add_argument("--intervals", type=int, default=REPLICATES, metavar="N",
                    help=f"bootstrap replicates of each calibration's parameter intervals (default {REPLICATES}; "
                         f"0: none)")
+    p.add_argument("--force-zero", default="none", choices=FORCE_ZERO,
+                   help="'per-test': fit each test's force zero (offset F0 and drift F1, pinned by its rests "
+                        "where it has them) beside the model as a nuisance of the measurement; kept in the "
+                        "calibration file's force_zero block, never exported (default: none)")
     p.add_argument("--start", metavar="CALIBRATION.yaml",
                    help="start every model that extends this calibration's model (same law, its effects "
                         "among the model's) from its parameters; the fit ends no worse than them")
@@ -225,7 +230,7 @@ def campaign_settings(args) -> CampaignSettings:
                             optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
                             stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
                             bound_overrides=overrides, per_test=per_test, start=start, intervals=args.intervals,
-                            start_values=start_values, all_runs=args.all_runs)
+                            start_values=start_values, all_runs=args.all_runs, force_zero=args.force_zero)
 
 
 def parse_per_test(text: str, specs, catalog) -> tuple:

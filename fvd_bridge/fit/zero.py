@@ -39,6 +39,8 @@ import numpy as np
 
 from ..records.velocity import rest_mask
 
+#: what ``force_zero`` takes: 'none', or each test's zero fitted beside the model
+FORCE_ZERO = ("none", "per-test")
 #: rests pin the drift too when they lie this share of the test's duration apart (start and end)
 BOTH_ENDS = 0.5
 #: how a test's zero is pinned, per ``ZeroPin.how``
