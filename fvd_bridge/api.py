@@ -9,15 +9,15 @@
     cal = fb.calibrate([test1, test2], "9", device="sn101", per_test=["beta"])   # tests of one device
 
 Units inside: kN, mm, s.  Messages and warnings (``FitWarning``,
-``RecordWarning``) name these functions' arguments.
+``RecordWarning``) name these functions' arguments, never a command-line
+option (``errors.option``: each message is written once, in the words of
+whoever called).
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import replace
 
-from .api_words import api_errors, in_api_words
 from .calibration import Calibration
 from .campaign.engine import calibrate_one
 from .campaign.runner import CampaignSettings
@@ -101,43 +101,41 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
     Calibration
         The best run, its intervals and its warnings (also issued as ``FitWarning``).
     """
-    with api_errors():
-        m = _model(model, plugins)
-        if int(runs) < 1:
-            raise InputError(f"runs={runs}: must be at least 1")
-        if force_zero not in FORCE_ZERO:
-            raise InputError(f"force_zero={force_zero!r}: expected one of {', '.join(map(repr, FORCE_ZERO))}")
-        record = as_tests(records, device)
-        mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
-        values = dict(start) if isinstance(start, dict) else {}
-        for arg, given in (("bounds", dict.fromkeys(overrides, "...")), ("fixed", fixed or {}), ("start", values),
-                           ("per_test", dict.fromkeys(per_test, ""))):
-            for name, value in given.items():
-                if name not in m.names:
-                    shown = f"[{name!r}]" if arg == "per_test" else f"{{{name!r}: {value}}}"
-                    raise InputError(f"{arg}={shown}: model {m.spec} has no parameter '{name}' "
-                                     f"(has: {', '.join(m.names)})")
-        overrides.update({name: (float(v), float(v)) for name, v in (fixed or {}).items()})
-        settings_for(optimizer, pop, gens)
-        extends = None
-        if isinstance(start, Calibration):
-            if start.model.law is not m.law or not set(start.model.effect_names) <= set(m.effect_names):
-                raise InputError(f"start: model {m.spec} does not extend the calibration's model {start.spec} "
-                                 f"(same law, its effects among the model's)")
-            extends = (start.spec, tuple(start.model.names), tuple(float(x) for x in start.values))
-        cs = CampaignSettings(specs=(m.spec,), runs=int(runs), bounds=mode, optimizer=optimizer, seed=seed,
-                              pop=pop, gens=gens, jobs=1, plugins=tuple(plugins),
-                              bound_overrides=tuple((None, n, lo, hi) for n, (lo, hi) in overrides.items()),
-                              per_test=tuple((None, n) for n in per_test), start=extends,
-                              start_values=tuple((None, n, float(v)) for n, v in values.items()),
-                              intervals=int(intervals), all_runs=bool(all_runs), force_zero=force_zero)
-        if cs.model(m.spec).names != m.names:
-            raise InputError(f"model {m.spec}: give it as a spec (with plugins= for effects of your own)")
-        cal = calibrate_one(record, cs)
-        notes = [in_api_words(w) for w in cal.warnings]
-        for note in notes:
-            warnings.warn(note, FitWarning, stacklevel=3)
-        return replace(cal, warnings=notes)
+    m = _model(model, plugins)
+    if int(runs) < 1:
+        raise InputError(f"runs={runs}: must be at least 1")
+    if force_zero not in FORCE_ZERO:
+        raise InputError(f"force_zero={force_zero!r}: expected one of {', '.join(map(repr, FORCE_ZERO))}")
+    record = as_tests(records, device)
+    mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
+    values = dict(start) if isinstance(start, dict) else {}
+    for arg, given in (("bounds", dict.fromkeys(overrides, "...")), ("fixed", fixed or {}), ("start", values),
+                       ("per_test", dict.fromkeys(per_test, ""))):
+        for name, value in given.items():
+            if name not in m.names:
+                shown = f"[{name!r}]" if arg == "per_test" else f"{{{name!r}: {value}}}"
+                raise InputError(f"{arg}={shown}: model {m.spec} has no parameter '{name}' "
+                                 f"(has: {', '.join(m.names)})")
+    overrides.update({name: (float(v), float(v)) for name, v in (fixed or {}).items()})
+    settings_for(optimizer, pop, gens)
+    extends = None
+    if isinstance(start, Calibration):
+        if start.model.law is not m.law or not set(start.model.effect_names) <= set(m.effect_names):
+            raise InputError(f"start: model {m.spec} does not extend the calibration's model {start.spec} "
+                             f"(same law, its effects among the model's)")
+        extends = (start.spec, tuple(start.model.names), tuple(float(x) for x in start.values))
+    cs = CampaignSettings(specs=(m.spec,), runs=int(runs), bounds=mode, optimizer=optimizer, seed=seed,
+                          pop=pop, gens=gens, jobs=1, plugins=tuple(plugins),
+                          bound_overrides=tuple((None, n, lo, hi) for n, (lo, hi) in overrides.items()),
+                          per_test=tuple((None, n) for n in per_test), start=extends,
+                          start_values=tuple((None, n, float(v)) for n, v in values.items()),
+                          intervals=int(intervals), all_runs=bool(all_runs), force_zero=force_zero)
+    if cs.model(m.spec).names != m.names:
+        raise InputError(f"model {m.spec}: give it as a spec (with plugins= for effects of your own)")
+    cal = calibrate_one(record, cs)
+    for note in cal.warnings:
+        warnings.warn(note, FitWarning, stacklevel=2)
+    return cal
 
 
 def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=(), plugins=(), progress=None):
@@ -171,6 +169,5 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=
         tests disagree on, or None), ``.verdict()``, ``.accept(effect=None)``
         (the refit as a Calibration) and ``.ladder()``.
     """
-    with api_errors():
-        return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
-                             catalog=catalog(plugins), per_test=tuple(per_test))
+    return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
+                         catalog=catalog(plugins), per_test=tuple(per_test))

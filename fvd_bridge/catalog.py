@@ -19,7 +19,7 @@ import os
 from .effects.base import Effect
 from .effects.catalog import EFFECTS
 from .effects.plugins import file_sha256, load_plugins
-from .errors import InputError, PluginNeeded
+from .errors import InputError, PluginNeeded, command, option
 from .laws import LAWS, get_law
 from .model import Model
 
@@ -41,7 +41,7 @@ class Catalog:
         key = str(name).strip()
         if key not in self.effects:
             raise InputError(f"unknown effect '{key}' (known: {', '.join(self.effects)}; "
-                             f"see `fvd-bridge effects`)")
+                             f"see {command('effects')})")
         return self.effects[key]
 
     def model(self, spec):
@@ -159,12 +159,12 @@ def _needed(where: str, spec, missing: dict, foreign: list) -> str:
     rule = "a calibration file never runs code, so give the plugin yourself if you trust it"
     if not missing:
         return (f"{where}: key 'model': {spec}: effect '{foreign[0]}' is not built in and the file names no "
-                f"plugin for it; {rule}: --plugin FILE.py (plugins=['FILE.py'] in Python)")
+                f"plugin for it; {rule}: {option('--plugin', 'FILE.py')}")
     names = ", ".join(f"{name} (sha256 {digest[:HASH_SHOWN]})" if digest else name
                       for name, digest in missing.items())
     first = next(iter(missing))
     return (f"{where}: model {spec} needs the plugin{'s' if len(missing) > 1 else ''} {names}; {rule}: "
-            f"--plugin {first} (plugins=['{first}'] in Python)")
+            f"{option('--plugin', first)}")
 
 
 def _paths(plugin_paths) -> tuple:

@@ -24,17 +24,64 @@ API_ARGUMENT = {
     "--devices": "devices={v!r}",
     "--protocol": "protocol={v!r}",
     "--laws": "laws={v!r}",
+    "--columns": "columns={v!r}",
+    "--units": "units={v!r}",
     "--plot": "path={v!r}",
+    "--bound": "bounds={{{name!r}: ({lo}, {hi})}}",
+    "--fix": "fixed={{{name!r}: {v}}}",
+    "--start-value": "start={{{name!r}: {v}}}",
+    "--all-runs": "all_runs=True",
+    "--max-rungs": "max_rungs={v}",
+    "--mat-var": "mat_var={v!r}",
+    "--window": "fvd_bridge.records.readers.cut(record, {t0}, {t1})",
+    "--test-weights": "weights=[{v}]",
+    "--gap-figure": "path={v!r}",
+}
+
+#: each verb and the Python call that does its job (``command``)
+API_CALL = {
+    "laws": "fvd_bridge.laws.LAWS",
+    "effects": "fvd_bridge.catalog.catalog().effects",
+    "calibrate": "fvd_bridge.calibrate()",
+    "diagnose": "fvd_bridge.diagnose()",
+    "export opensees": "Calibration.to_opensees()",
+    "export fmu": "Calibration.to_fmu()",
 }
 
 
-def option(flag: str, value=None) -> str:
+def option(flag: str, value=None, **fields) -> str:
     """``flag`` with ``value`` as its reader gave it: '--plugin x.py' on the
-    command line, "plugins=['x.py']" from Python (``API_ARGUMENT``)."""
+    command line, "plugins=['x.py']" from Python (``API_ARGUMENT``; ``fields``:
+    the template's other parts, e.g. a bound's name, lo and hi).  Without a
+    value, the option alone: '--runs' / 'runs='."""
     template = API_ARGUMENT.get(flag) if _WORDS.get() == "api" else None
     if template is None:
         return flag if value is None else f"{flag} {value}"
-    return template.format(v=value)
+    if value is None and not fields and "{" in template:
+        return template.split("=", 1)[0] + "="
+    return template.format(v=value, **fields)
+
+
+def repeated(flag: str, values) -> str:
+    """'--per-test a --per-test b' on the command line, "per_test=['a', 'b']"
+    from Python (a list argument of ``API_ARGUMENT``)."""
+    template = API_ARGUMENT.get(flag) if _WORDS.get() == "api" else None
+    if template is None:
+        return " ".join(option(flag, v) for v in values)
+    return f"{template.split('=', 1)[0]}={list(values)!r}"
+
+
+def bound_option(name: str, lo: float, hi: float, spec: str | None = None) -> str:
+    """'--bound 9:alpha=0,2' on the command line, "bounds={'alpha': (0, 2)}" from Python."""
+    lo, hi = f"{lo:.4g}", f"{hi:.4g}"
+    return option("--bound", f"{spec + ':' if spec else ''}{name}={lo},{hi}", name=name, lo=lo, hi=hi)
+
+
+def command(verb: str) -> str:
+    """'fvd-bridge export fmu' on the command line, 'Calibration.to_fmu()'
+    from Python (``API_CALL``)."""
+    call = API_CALL.get(verb) if _WORDS.get() == "api" else None
+    return call or f"fvd-bridge {verb}"
 
 
 def words() -> str:

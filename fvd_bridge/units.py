@@ -1,6 +1,6 @@
 """Unit conversion to the package's units: kN, mm, s (velocity mm/s)."""
 
-from .errors import InputError
+from .errors import InputError, option
 
 #: factor that converts a value in the named unit to the canonical unit
 FACTORS = {
@@ -26,16 +26,18 @@ def factor(quantity: str, unit: str, where: str = "") -> float:
 SYSTEM = {"F": "kN", "d": "mm", "t": "s"}
 
 
-def unit_system(text, where: str = "--units") -> dict:
+def unit_system(text, where: str | None = None) -> dict:
     """'kN,m,s' (FORCE,LENGTH,TIME) -> {'F': 'kN', 'd': 'm', 't': 's'}; a
     tuple ('kN', 'm', 's') and a dict {F, d, t} are checked as they are;
-    None is the package's kN, mm, s."""
+    None is the package's kN, mm, s.  A bad one: an InputError naming
+    ``where`` (default: the units option in the caller's words)."""
     if text is None:
         return dict(SYSTEM)
+    given = f"{where} '{text}'" if where else option("--units", text)
     if isinstance(text, dict):
         missing = [k for k in "Fdt" if k not in text]
         if missing:
-            raise InputError(f"{where} {text}: no unit for '{missing[0]}' (give F, d and t)")
+            raise InputError(f"{given}: no unit for '{missing[0]}' (give F, d and t)")
         parts = [text[k] for k in "Fdt"]
     elif isinstance(text, (tuple, list)):
         parts = [str(p) for p in text]
@@ -43,14 +45,14 @@ def unit_system(text, where: str = "--units") -> dict:
         given = dict(item.split("=", 1) for item in str(text).replace(" ", "").split(",") if "=" in item)
         unknown = sorted(set(given) - set("Fdt"))
         if unknown:
-            raise InputError(f"{where} '{text}': unknown quantity '{unknown[0]}' (F, d or t)")
+            raise InputError(f"{given}: unknown quantity '{unknown[0]}' (F, d or t)")
         parts = [given.get(k, SYSTEM[k]) for k in "Fdt"]
     else:
         parts = [p.strip() for p in str(text).split(",")]
     if len(parts) != 3:
-        raise InputError(f"{where} '{text}': expected FORCE,LENGTH,TIME, e.g. kN,m,s or N,mm,s or kip,in,s")
+        raise InputError(f"{given}: expected FORCE,LENGTH,TIME, e.g. kN,m,s or N,mm,s or kip,in,s")
     for quantity, unit in zip("Fdt", parts):
-        factor(quantity, unit, f"{where} '{text}': ")
+        factor(quantity, unit, f"{given}: ")
     return dict(zip("Fdt", parts))
 
 

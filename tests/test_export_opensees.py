@@ -236,7 +236,7 @@ def test_cannot_export(spec, effects, words):
     with pytest.raises(InputError) as err:
         opensees_export(model, pars)
     msg = str(err.value)
-    assert f"model {spec}" in msg and words in msg and "fvd-bridge export fmu" in msg and "\n" not in msg
+    assert f"model {spec}" in msg and words in msg and "Calibration.to_fmu()" in msg and "\n" not in msg
 
 
 def test_missing_parameter():

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import bound_option, option
 from .stats import relative_range
 
 #: runs disagree when (max - min) / min of OF over runs exceeds this
@@ -38,8 +39,9 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
     ofs = np.array([r.of for r in runs])
     spread = relative_range(ofs) if len(runs) > 1 else 0.0
     if spread > RUN_RANGE:
-        remedy = "more generations" + (" or --optimizer de" if best.optimizer != "de" else
-                                       ", more runs (--runs), or narrower bounds around the best run (--bound)")
+        remedy = "more generations" + (f" or {option('--optimizer', 'de')}" if best.optimizer != "de" else
+                                       f", more runs ({option('--runs')}), or narrower bounds around the best run "
+                                       f"({option('--bound')})")
         out.append({"code": "runs_disagree", "parameter": None,
                     "message": f"runs disagree: OF {ofs.min():.4g} to {ofs.max():.4g} over {len(runs)} runs, the worst "
                                f"{spread:.1%} above the best (more than {RUN_RANGE:.0%}; the optimizer "
@@ -61,7 +63,7 @@ def _bound_message(model, best, name: str, side: str) -> str:
         return (f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g}; widening it did not lower "
                 f"the OF: the optimum lies at that end (a rigid spring, a vanishing term)")
     if best.bounds_mode == "paper":
-        return f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (paper bounds; try --bounds auto)"
+        return f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (paper bounds; try {option('--bounds', 'auto')})"
     base, end = name.split("@")[0], lo if side == "lower" else hi
     lim = {p.name: p.limit for p in model.law.parameters}.get(base)
     if lim is not None and (base in best.widened or end in lim):  # widened by itself (fit.nested): no hint
@@ -72,7 +74,7 @@ def _bound_message(model, best, name: str, side: str) -> str:
     if side == "lower" and lo > 0.0 and wider[0] < 0.0:
         wider = (lo / 10.0, hi)
     return (f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (bounds {best.bounds_mode} "
-            f"[{lo:.4g}, {hi:.4g}]); widen it, e.g. --bound {model.spec}:{name}={wider[0]:.4g},{wider[1]:.4g}")
+            f"[{lo:.4g}, {hi:.4g}]); widen it, e.g. {bound_option(name, *wider, model.spec)}")
 
 
 def _spread(x: np.ndarray) -> float:

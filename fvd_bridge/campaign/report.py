@@ -9,6 +9,7 @@ are series material: with one device they are not printed.
 
 from __future__ import annotations
 
+from ..errors import option
 from ..report.numbers import has_spread, rounded, with_spread
 
 GAP = 2  # spaces between columns
@@ -74,7 +75,7 @@ def _runs_lines(models: dict, asked: int | None) -> list:
         return []
     made = models[settled[0]]["runs_made"]
     return [f"law {', '.join(settled)}: the first {made} runs ended on one optimum on every device; the other "
-            f"{asked - made} of {asked} were not made (--all-runs makes them)"]
+            f"{asked - made} of {asked} were not made ({option('--all-runs')} makes them)"]
 
 
 def _test_rows(m: dict, n_devices: int) -> list:

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import repeated
 from ..fit import polish_model
 from ..fit.layout import Layout
 from ..records.device import as_device
@@ -105,7 +106,7 @@ class Agreement:
 
     def verdict(self) -> str:
         a = self.advice
-        flag = " ".join(f"--per-test {n}" for n in (*self.given, a.name))
+        flag = repeated("--per-test", (*self.given, a.name))
         return (f"the tests disagree: {a.name} differs between tests ({a.text()}; with {a.name} per test OF "
                 f"{self.base_of:.4g} -> {a.of:.4g}, {a.share:.0%} of what fitting each test on its own gains); "
                 f"calibrate with {flag}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..errors import command, repeated, words
 from ..fit import mean_abs_noise
 from .agree import MOST
 from .where import summary_lines
@@ -79,9 +80,8 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
     lines.append("")
     if diag.advice is not None:
         lines.append(f"suggestion: {diag.verdict()}")
-        flags = " ".join(f"--per-test {n}" for n in (*diag.per_test, diag.advice.name))
-        for line in next_lines or [f"fvd-bridge diagnose {record_label or 'RECORD'} --device {diag.record} "
-                                   f"--law {diag.spec} {flags}"]:
+        again = _again(record_label, diag.spec, diag.record, (*diag.per_test, diag.advice.name))
+        for line in next_lines or [again]:
             lines.append(f"next: {line}")
     elif diag.best is None:
         lines.append(diag.verdict())
@@ -91,9 +91,20 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
             lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower"
                          f"{diag.held_out_scope})")
             lines.append(f"{'':<12} exports to: {_targets(c.exports)}")
-        for line in next_lines or [f"fvd-bridge diagnose {record_label or 'RECORD'} --law {diag.best.spec}"]:
+        for line in next_lines or [_again(record_label, diag.best.spec)]:
             lines.append(f"next: {line}")
     return "\n".join(lines)
+
+
+def _again(label: str | None, spec: str, device: str | None = None, per_test=()) -> str:
+    """The diagnosis to run next, as the caller runs it: a command line, or the Python call."""
+    if words() == "api":
+        args = ["records", repr(spec)] + ([f"device={device!r}"] if device else []) + (
+            [repeated("--per-test", per_test)] if per_test else [])
+        return f"{command('diagnose')[:-1]}{', '.join(args)})"
+    device = [f"--device {device}"] if device else []
+    return " ".join([command("diagnose"), label or "RECORD", *device, f"--law {spec}",
+                     *([repeated("--per-test", per_test)] if per_test else [])])
 
 
 def _agreement_lines(diag) -> list[str]:

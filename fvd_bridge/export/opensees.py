@@ -88,7 +88,7 @@ import numpy as np
 
 from ..catalog import parse_model
 from ..effects.compose import ordered
-from ..errors import InputError
+from ..errors import InputError, command
 from ..model import Model
 from ..opensees_commands import NOT_IN_TCL, Tag, apply, define, listed  # noqa: F401 (re-exported)
 from ..opensees_commands import to_script as commands_script
@@ -99,7 +99,6 @@ EXACT_OF = 2e-4
 STEP_REF = 0.012
 #: BoucWen (laws 6, 9): OF <= HYSTERESIS_OF_RATE * step ratio (measured: up to 0.33)
 HYSTERESIS_OF_RATE = 0.5
-FMU_HINT = "use the FMU export (fvd-bridge export fmu) instead"
 #: a ``Viscous`` dashpot with an exponent below this defeats Newton at velocity
 #: reversals (frames/transient.py); ``solving_springs`` puts it behind a spring
 NEWTON_ALPHA = 0.5
@@ -204,7 +203,8 @@ def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
     p = _values(model, params)
     refusal = model.opensees_refusal(p)
     if refusal:
-        raise InputError(f"model {model.spec}: OpenSees has no material for {refusal}; {FMU_HINT}")
+        raise InputError(f"model {model.spec}: OpenSees has no material for {refusal}; "
+                         f"use the FMU export ({command('export fmu')}) instead")
     active = ordered(model.active_effects(p))
     exponents = {n: p[n] for n in model.law.names}
     p = {n: in_system(p[n], q.unit, system, exponents) for n, q in zip(model.names, model.parameters)}

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError, option
+from ..errors import InputError, bound_option, option
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
@@ -45,9 +45,10 @@ def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict)
     for name, (lo, hi) in overrides.items():
         cols = [k for k, n in enumerate(names) if n == name or n.startswith(name + "@")]
         if not cols:
-            raise InputError(f"--bound {name}: model {spec} has no parameter '{name}' (has: {', '.join(names)})")
+            given = option("--bound", name, name=name, lo="...", hi="...")
+            raise InputError(f"{given}: model {spec} has no parameter '{name}' (has: {', '.join(names)})")
         if not lo <= hi:  # lower == upper: the caller fixes the parameter there
-            raise InputError(f"--bound {name}={lo:g},{hi:g}: the lower bound must be below the upper")
+            raise InputError(f"{bound_option(name, lo, hi)}: the lower bound must be below the upper")
         b[cols] = (lo, hi)
     return b
 

@@ -74,6 +74,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import command
 from ..records.cycles import force_noise
 from ..records.device import as_device
 from ..records.record import Record
@@ -243,7 +244,7 @@ def from_estimates(model, layout, params, estimates: np.ndarray, noise_of: float
     if of is not None and of > MISFIT * out.noise_of:
         out.note = (f"OF {of:.4g} is {of / out.noise_of:.1f}x what the noise alone gives ({out.noise_of:.4g}): "
                     f"the model misses the record, and these intervals count the noise only, not the misfit "
-                    f"(fvd-bridge diagnose shows what is missing)")
+                    f"({command('diagnose')} shows what is missing)")
     return out
 
 

@@ -11,7 +11,7 @@ at 2 and law 6's K at 30, and keep law 7 below the measured force).
 
 from __future__ import annotations
 
-from ..errors import InputError, option
+from ..errors import InputError, command, option
 from . import algebraic, differential, starts
 from . import opensees_forms as ops_form
 from .base import Derived, Law, OpenSeesForm, Parameter
@@ -152,7 +152,7 @@ def get_law(key) -> Law:
     try:
         return LAWS[int(str(key).strip().removeprefix("law"))]
     except (ValueError, KeyError):
-        raise InputError(f"unknown law '{key}' (known: {min(LAWS)}-{max(LAWS)}; see `fvd-bridge laws`)") from None
+        raise InputError(f"unknown law '{key}' (known: {min(LAWS)}-{max(LAWS)}; see {command('laws')})") from None
 
 
 def parse_law_list(text: str) -> list[Law]:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 from .cycles import dominant_period, reversals
 
 
@@ -33,7 +33,7 @@ class Device:
             raise InputError(f"device {self.name}: no tests")
         w = np.ones(len(self.tests)) if self.weights is None else np.asarray(self.weights, dtype=float)
         if w.shape != (len(self.tests),) or np.any(w < 0) or not np.isfinite(w).all() or w.sum() <= 0:
-            raise InputError(f"device {self.name}: --test-weights needs {len(self.tests)} non-negative numbers, "
+            raise InputError(f"device {self.name}: {option('--test-weights')} needs {len(self.tests)} non-negative numbers, "
                              f"not all zero")
         self.weights = w / w.sum()
         self.warnings = self.warnings or [w for t in self.tests for w in t.warnings]

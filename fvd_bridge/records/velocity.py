@@ -56,7 +56,7 @@ from math import factorial
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, option
 from .cycles import displacement_noise
 
 #: odd windows [samples] the adaptive rule chooses from (about x sqrt(2) apart)
@@ -95,15 +95,15 @@ def check_settings(window: int | None, polyorder: int, n: int | None = None, whe
     """Refuse a window [samples] / order pair the filter cannot use on n samples
     (window None: the order alone; n None: not checked against a record)."""
     if polyorder < 1:
-        raise InputError(f"--sg-order {polyorder}: must be at least 1")
+        raise InputError(f"{option('--sg-order', polyorder)}: must be at least 1")
     if window is None:
         return
     if window % 2 == 0:
-        raise InputError(f"--sg-window {window}: must be odd")
+        raise InputError(f"{option('--sg-window', window)}: must be odd")
     if window <= polyorder:
-        raise InputError(f"--sg-window {window}: must be larger than --sg-order {polyorder}")
+        raise InputError(f"{option('--sg-window', window)}: must be larger than {option('--sg-order', polyorder)}")
     if n is not None and window > n:
-        raise InputError(f"{where}--sg-window {window}: larger than the record's {n} samples")
+        raise InputError(f"{where}{option('--sg-window', window)}: larger than the record's {n} samples")
 
 
 def noise_gain(window: int, polyorder: int, deriv: int, dt: float) -> tuple[float, np.ndarray]:
@@ -226,7 +226,7 @@ def derive(d: np.ndarray, dt: float, window: int | None = None, polyorder: int =
     """
     check_settings(window, polyorder, d.size, where)
     if polyorder + 2 > d.size:
-        raise InputError(f"{where}--sg-order {polyorder}: needs at least {polyorder + 2} samples, "
+        raise InputError(f"{where}{option('--sg-order', polyorder)}: needs at least {polyorder + 2} samples, "
                          f"the record has {d.size}")
     sigma = float(displacement_noise(d)) if d_noise is None else float(d_noise)
     base = {"method": "savgol", "polyorder": int(polyorder), "d_noise_mm": sigma}
@@ -359,7 +359,7 @@ def acceleration_from_velocity(v: np.ndarray, dt: float, window: int | None = No
     """
     check_settings(window, polyorder, v.size, where)
     if polyorder + 2 > v.size:
-        raise InputError(f"{where}--sg-order {polyorder}: needs at least {polyorder + 2} samples, "
+        raise InputError(f"{where}{option('--sg-order', polyorder)}: needs at least {polyorder + 2} samples, "
                          f"the record has {v.size}")
     sigma = float(displacement_noise(v)) if v_noise is None else float(v_noise)
     if window is None:
