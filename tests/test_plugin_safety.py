@@ -58,11 +58,11 @@ def lab(tmp_path, monkeypatch):
 
 
 def plant(path, plugins, model=None) -> None:
-    """Rewrite a calibration file's settings.plugins (and model)."""
+    """Rewrite a calibration file's settings.plugins (and model: a built-in law, without its effects)."""
     data = yaml.safe_load(path.read_text())
     data["settings"]["plugins"] = plugins
     if model is not None:
-        data["model"] = model
+        data["model"], data["effects"] = model, []
         data["parameters"] = {k: v for k, v in data["parameters"].items() if "." not in k}
     path.write_text(yaml.safe_dump(data, sort_keys=False))
 

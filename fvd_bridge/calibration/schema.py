@@ -125,33 +125,106 @@ def read(path: str, catalog=None, plugins=()) -> dict:
     settings = data.get("settings") or {}
     if not isinstance(settings, dict):
         raise InputError(f"{path}: key 'settings' must be a mapping")
-    catalog = catalog_for(path, data.get("model", ""), recorded_plugins(path, settings.get("plugins") or []),
-                          plugins, catalog)
-    try:
-        model = catalog.model(data.get("model", ""))
-    except InputError as exc:
-        raise InputError(f"{path}: key 'model': {exc}") from None
+    model = _model(path, data.get("model", ""), recorded_plugins(path, settings.get("plugins") or []), plugins,
+                   catalog)
+    _agree(path, data, model)
     values, bounds, means, sigmas = _parameters(path, data.get("parameters"), model)
     of = _number(path, "of", data.get("of"))
     record = RecordSource.from_dict(data.get("record"))  # v1 kept no format, columns, units, reading or peaks
+    tests = _tests(path, data.get("tests"), record, of, model)
+    _per_test_agree(path, data["parameters"], tests, model)
     runs = RunStats(_number(path, "of_mean_over_runs", data.get("of_mean_over_runs", of)),
                     _number(path, "of_sigma_over_runs", data.get("of_sigma_over_runs", 0.0)),
                     tuple(map(float, means)), tuple(map(float, sigmas)))
     return {"model": model, "values": values, "of": of, "bounds": bounds, "record": record,
             "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
-            "path": os.path.abspath(path), "tests": _tests(path, data.get("tests"), record, of),
+            "path": os.path.abspath(path), "tests": tests,
             "device": str(data.get("device") or record.name or ""), "intervals": _intervals(data),
             "solver": SolverStatus.from_dict(data.get("solver")), "force_zero": _force_zero(path, data)}
 
 
-def _tests(path: str, given, record: RecordSource, of: float) -> tuple:
-    """The file's tests as TestFits; a file without tests (schema 1) has
-    one, its record's, with the record's peak stroke [mm] and velocity [mm/s]."""
+def _model(path: str, spec, recorded: dict, plugins, catalog):
+    """The Model of the file's key 'model', from the registry with the
+    plugins the caller gives for the effects the file names (``catalog_for``:
+    an effect neither built in nor given is PluginNeeded, naming it)."""
+    catalog = catalog_for(path, spec, recorded, plugins, catalog)
+    try:
+        return catalog.model(spec)
+    except InputError as exc:
+        raise InputError(f"{path}: key 'model': '{spec}': {exc}") from None
+
+
+def _agree(path: str, data: dict, model) -> None:
+    """The blocks that restate the model line agree with it: key 'law' is
+    its law, key 'effects' its effects, key 'units' kN, mm, s, key
+    'derived' the law's derived quantities; else one line naming the key."""
+    spec, law = data.get("model"), data.get("law")
+    if not isinstance(law, dict) or str(law.get("number")) != str(model.law.number):
+        given = law.get("number") if isinstance(law, dict) else law
+        raise InputError(f"{path}: key 'law.number': {given!r} is not the law of key 'model' '{spec}' "
+                         f"(law {model.law.number}); edit both or neither")
+    effects = data.get("effects")
+    listed = [e.get("name") if isinstance(e, dict) else e for e in effects] if isinstance(effects, list) else effects
+    if not isinstance(listed, list) or sorted(map(str, listed)) != sorted(model.effect_names):
+        raise InputError(f"{path}: key 'effects' lists {_names(listed)}, key 'model' '{spec}' has "
+                         f"{_names(model.effect_names)}; edit both or neither")
+    if data.get("units") != UNITS:
+        raise InputError(f"{path}: key 'units': {data.get('units')!r}, expected {UNITS} (a calibration file "
+                         f"holds kN, mm, s; an export converts)")
+    derived = data.get("derived") or {}
+    extra = sorted(set(derived) - {d.name for d in model.law.derived}) if isinstance(derived, dict) else ["?"]
+    if extra:
+        raise InputError(f"{path}: key 'derived.{extra[0]}' is not a derived quantity of law {model.law.number}")
+
+
+def _names(names) -> str:
+    """'friction, gap', or 'none'."""
+    return ", ".join(map(str, names)) if isinstance(names, list) and names else "none"
+
+
+def _tests(path: str, given, record: RecordSource, of: float, model) -> tuple:
+    """The file's tests as TestFits, each test's parameters of the model's
+    and numbers; a file without tests (schema 1) has one, its record's, with
+    the record's peak stroke [mm] and velocity [mm/s]."""
     if not given:
         return (TestFit(record.name, 1.0, of, {"d": record.peaks.d, "v": record.peaks.v}, record),)
     if not isinstance(given, list) or not all(isinstance(t, dict) and "name" in t for t in given):
         raise InputError(f"{path}: key 'tests' must be a list of mappings with a 'name'")
+    names = [t["name"] for t in given]
+    if len(set(names)) < len(names):
+        raise InputError(f"{path}: key 'tests' names a test twice ({', '.join(map(str, names))})")
+    for t in given:
+        parameters = t.get("parameters") or {}
+        for name, value in (parameters.items() if isinstance(parameters, dict) else [("?", None)]):
+            where = f"tests[{t['name']}].parameters.{name}"
+            if name not in model.names:
+                raise InputError(f"{path}: key '{where}' is not a parameter of model {model.spec}")
+            _number(path, where, value)
     return tuple(TestFit.from_dict(t) for t in given)
+
+
+def _per_test_agree(path: str, given: dict, tests: tuple, model) -> None:
+    """A parameter's 'per_test' values are its tests' (their blocks are what
+    loads), the first test's its 'value', its 'per_test_ci95' of those tests."""
+    names = [t.name for t in tests]
+    for name in model.names:
+        entry = given[name]
+        held = {t.name: float(t.parameters[name]) for t in tests if name in t.parameters}
+        listed = entry.get("per_test") or {}
+        if not isinstance(listed, dict) or set(listed) != set(held):
+            raise InputError(f"{path}: key 'parameters.{name}.per_test' names tests {_names(list(listed))}, "
+                             f"key 'tests' fits {name} per test on {_names(list(held))}")
+        for test, value in held.items():
+            if not np.isclose(_number(path, f"parameters.{name}.per_test.{test}", listed[test]), value, rtol=1e-12):
+                raise InputError(f"{path}: key 'parameters.{name}.per_test.{test}': {listed[test]!r}, but key "
+                                 f"'tests' ({test}) holds {value!r}; edit both or neither")
+        if names[0] in held and not np.isclose(float(entry["value"]), held[names[0]], rtol=1e-12):
+            raise InputError(f"{path}: key 'parameters.{name}.value': {entry['value']!r} is not the first test's "
+                             f"({names[0]}: {held[names[0]]!r}), which the model's vector holds")
+        unknown = sorted(set(entry.get("per_test_ci95") or {}) - set(held))
+        if unknown:
+            raise InputError(f"{path}: key 'parameters.{name}.per_test_ci95.{unknown[0]}': {name} was not fitted "
+                             f"per test on {unknown[0]}")
 
 
 def record_provenance(record) -> RecordSource:
@@ -185,6 +258,11 @@ def _read_yaml(path: str):
             return yaml.safe_load(fh)
     except OSError as exc:
         raise InputError(f"{path}: cannot read ({exc.strerror})") from None
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark else ""
+        raise InputError(f"{path}: {where}not valid YAML: {exc.problem or exc.context} (an indentation or a ':' "
+                         f"out of place?)") from None
     except yaml.YAMLError as exc:
         raise InputError(f"{path}: not valid YAML ({str(exc).splitlines()[0]})") from None
 
@@ -207,7 +285,8 @@ def _parameters(path: str, given, model):
     for name, unit in zip(model.names, model.units):
         entry = given.get(name)
         if not isinstance(entry, dict) or "value" not in entry:
-            raise InputError(f"{path}: key 'parameters.{name}' is missing (model {model.spec})")
+            raise InputError(f"{path}: key 'parameters.{name}' is missing (model {model.spec} has "
+                             f"{', '.join(model.names)}; the file {', '.join(map(str, given)) or 'none'})")
         if entry.get("unit") != unit:
             raise InputError(f"{path}: key 'parameters.{name}.unit': '{entry.get('unit')}', expected '{unit}'")
         value = _number(path, f"parameters.{name}.value", entry["value"])
