@@ -9,7 +9,8 @@ from dataclasses import asdict
 
 import shlex
 
-from ..calibration import Calibration
+from ..diagnose.core import recommended
+from ..diagnose.ladder import recommended_fits
 from ..campaign.outputs import spec_file
 from ..catalog import catalog
 from ..errors import InputError
@@ -132,13 +133,10 @@ def _per_test(text: str, model) -> str:
 
 
 def _refits(diag, lad) -> dict:
-    """{spec: (model, fit)} of what diagnose found worth keeping: every
-    candidate that passed its checks, and with the ladder every rung."""
-    diagnoses = lad.diagnoses if lad is not None else [diag]
-    found = {c.spec: (c.model, c.fit) for d in diagnoses for c in d.candidates if c.significant}
-    if lad is not None:
-        found.update({d.spec: (d.model, d.fit) for d in lad.diagnoses})
-    return found
+    """{spec: (model, fit, zero)} of what diagnose found worth keeping: every
+    candidate that passed its checks, and with the ladder every rung
+    (``zero``: refitted beside the tests' force zero; ``recommended_fits``)."""
+    return recommended_fits(diag, lad)
 
 
 def _hand_over(report: dict, paths: dict) -> None:
@@ -182,14 +180,15 @@ def _next_lines(args, diag, paths: dict) -> list:
 
 def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
     """The calibration files of what diagnose found ({file name in OUT:
-    (model, fit)}, ``_refits``), figures and the JSON report, all or nothing
+    (model, fit, zero)}, ``_refits``), figures and the JSON report, all or nothing
     (a staging directory)."""
     base = safe_name(record.name)
     written = []
     settings = {"source": "diagnose", **report["settings"]}
     with staged_dir(args.out) as stage:
-        for name, (model, fit) in fits.items():
-            Calibration.from_fit(model, fit, record, settings).save(os.path.join(stage, name))
+        for name, (model, fit, zero) in fits.items():  # with intervals; beside the force zero where it was fitted
+            recommended(model, fit, record, settings, zero=zero, per_test=diag.per_test,
+                        seed=args.seed).save(os.path.join(stage, name))
             written.append(name)
         with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:
             json.dump(report, fh, indent=1)

@@ -36,6 +36,7 @@ from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..fit.layout import Layout
 from ..fit.objective import NEAR_FLOOR
+from ..fit.intervals import REPLICATES, intervals as bootstrap
 from ..fit.result import Parent
 from ..records.device import as_device
 from . import where as where_mod
@@ -146,29 +147,35 @@ class Diagnosis:
         raise InputError(f"effect '{effect}': not a candidate of this diagnosis "
                          f"(candidates: {', '.join(c.effect for c in self.candidates) or 'none'})")
 
-    def accept(self, effect: str | None = None):
+    def accept(self, effect: str | None = None, *, intervals: int = REPLICATES):
         """The model with an effect added, as diagnose refitted it: no second calibration.
+
+        When the diagnosis fitted the tests' force zero (``zero``), the
+        refit is refitted beside it (``zero.beside``): an effect credited
+        beyond the zero is exported as fitted beyond it.
 
         Parameters
         ----------
         effect : str, optional
             The effect to add; None: the best candidate (the one that helps most beyond noise).
+        intervals : int
+            Bootstrap replicates of the 95% intervals, as ``calibrate``'s (0: none).
 
         Returns
         -------
         Calibration
             The refit, ready to save and export (a candidate diagnose did
-            not credit carries that as a warning).
+            not credit carries that as a warning; the force zero, when
+            fitted, in its ``force_zero``, never exported).
         """
-        from ..calibration import Calibration
-
         if effect is None and self.best is None:
             raise InputError(f"diagnosis of {self.spec}: no candidate helps beyond noise; "
                              f"accept(effect=...) takes one by name")
         c = self.best if effect is None else self.candidate(effect)
         settings = {"source": "diagnose", "seed": self.inputs.seed, "optimizer": DEFAULT_OPTIMIZER}
         warnings = [] if c.significant else [f"{c.effect} was not credited by diagnose: {c.reason}"]
-        return Calibration.from_fit(c.model, c.fit, self.inputs.record, settings, warnings)
+        return recommended(c.model, c.fit, self.inputs.record, settings, zero=self.zero is not None,
+                           per_test=self.per_test, seed=self.inputs.seed, replicates=intervals, warnings=warnings)
 
     def ladder(self, max_rungs: int | None = None, progress=None):
         """The ladder from this diagnosis' model on the same record (``climb``).
@@ -311,6 +318,22 @@ class Diagnosis:
         """'; checked on this test's held-out cycles only' for a single test
         (a device's effects are checked on each test left out)."""
         return "" if len(self.tests) > 1 else "; checked on this test's held-out cycles only"
+
+
+def recommended(model, fit, record, settings: dict, *, zero: bool, per_test=(), seed: int = 0,
+                replicates: int = REPLICATES, warnings=()):
+    """The Calibration diagnose recommends of ``model``'s ``fit`` on
+    ``record``: refitted beside the tests' force zero when ``zero`` (the
+    diagnosis fitted it: ``zero.beside``), with calibrate's bootstrap
+    intervals (``replicates``, seeded as calibrate's; 0: none)."""
+    from ..calibration import Calibration
+
+    if zero:
+        fit = zero_mod.beside(model, fit, record, per_test)
+    iv = (bootstrap(model, record, fit.params, agree.free(model, per_test), fit.bounds, replicates, seed=[seed, 7],
+                    of=fit.of, force_zero=zero) if replicates else None)
+    settings = {**settings, "force_zero": "per-test" if zero else "none", "intervals": int(replicates)}
+    return Calibration.from_fit(model, fit, record, settings, list(warnings), intervals=iv)
 
 
 def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,

@@ -15,7 +15,6 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from ..errors import option
 from ..fit.result import Parent
 from .core import Diagnosis, diagnose
 
@@ -66,7 +65,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
     lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), diag.units()))
     while True:
         if max_rungs is not None and len(lad.rungs) > max_rungs:
-            lad.stop = f"after {max_rungs} added effect(s) ({option('--max-rungs')})"
+            lad.stop = f"after {max_rungs} added effect(s) (--max-rungs)"
             break
         if diag.advice is not None:
             lad.stop = diag.verdict()
@@ -91,6 +90,21 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
                               diag.units(), best.explanation, best.effect))
     lad.wall_s = time.perf_counter() - t0
     return lad
+
+
+def recommended_fits(diag, lad=None) -> dict:
+    """{spec: (model, fit, zero)} of what a diagnosis (with ``lad``, its
+    ladder) recommends keeping: every candidate that passed its checks and
+    every rung; ``zero``: fit it beside the tests' force zero
+    (``core.recommended``), as every diagnosis up to it that fitted the
+    zero credited its effects beyond it."""
+    found, zero = {}, False  # a rung's own fit (converged further) replaces its candidate's
+    for d in (lad.diagnoses if lad is not None else [diag]):
+        if lad is not None:
+            found[d.spec] = (d.model, d.fit, zero)
+        zero = zero or d.zero is not None
+        found.update({c.spec: (c.model, c.fit, zero) for c in d.candidates if c.significant})
+    return found
 
 
 Diagnosis._climb = staticmethod(climb)  # Diagnosis.ladder() (core.py)

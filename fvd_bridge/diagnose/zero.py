@@ -1,29 +1,11 @@
-"""The tests' force zero: a nuisance of the measurement, fitted per test, never exported.
+"""The tests' force zero in a diagnosis: a nuisance of the measurement,
+fitted per test beside the model to judge its effects, never exported.
 
-A load cell is zeroed before a test day, its zero moves from day to day and
-drifts slowly during a test (temperature, the amplifier).  What it reads is
-
-    F_measured = F_device + F0 + F1 (t - t_mid),    t_mid = (t_start + t_end) / 2
-
-with a force offset F0 [kN] and a drift F1 [kN/s], one pair per test
-(``zero_force``).  Both belong to the test, not to the device: diagnose
-fits them beside a model only to judge its effects and shows them as the
-tests' force zero; they never enter a Model, so no calibration file,
-spec or exporter ever carries them.
-
-The rests are the evidence of the zero: there the actuator holds still
-(``records.velocity.rest_mask``: v = a = 0 as read), the model's force is
-its force at rest, and what the load cell reads beyond it is the zero
-itself, with no misfit of the law's to take it up.  So a test with rests
-has its zero pinned by them (``RestPin``): F0 (and F1, when the rests lie
-at both ends of the test, at least ``BOTH_ENDS`` of its duration apart)
-follow from the median of the rests' residual, F_measured - F_model, at
-each end, for the model's parameters of the moment (a profile: not free
-parameters); with rests at one end only, F1 = 0 (one end cannot tell a
-drift).  A test
-without rests has F0 and F1 free, fitted on its motion.  The objective is
-eq. 18 over every sample, rests included (``solve``: least squares from
-the model's optimum, as ``fit.polish_model`` solves).
+The zero's model and how a test's rests pin it are ``fit.zero``'s (one
+place): F_measured = F_device + F0 + F1 (t - t_mid) per test, profiled out
+of eq. 18 (``fit_model(..., force_zero=True)``).  Here diagnose fits it
+beside a model (``solve``: least squares from the model's optimum, as
+``fit.polish_model`` solves) and shows it as the tests' force zero.
 
 An effect that can act like an offset (``Effect.offset_like``:
 parallel_stiffness, whose preload F0 is a force at d = 0, v = 0 as the
@@ -44,139 +26,23 @@ the load cell); this check can.  A preload acts at rest too (its force is
 in the model's force at rest), so on a rigid connection a constant preload
 is never told apart from the zero: the rests pin zero plus preload, and
 only what grows with d (a stiffness) or what the rests do not hold (a
-force the motion shows and the rests do not read) counts.
+force the motion shows and the rests do not read) counts.  When the zero
+was fitted, every calibration the diagnosis recommends is fitted beside
+it (``beside``): the effects it credits are credited beyond it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..fit.api import apply_overrides
+from ..fit.api import evaluate_params, polish_model, residual_weights
 from ..fit.layout import Layout
-from ..fit.local import FROM_START, run_local
-from ..fit.objective import objective_weights
-from ..fit.space import Space
+from ..fit.zero import values as zero_values, zero_force  # noqa: F401  (zero_force: the zero's equation)
 from ..records.device import as_device
 from ..records.velocity import rest_mask
 from .agree import free
-
-#: rests pin the drift too when they lie this share of the test's duration apart (start and end)
-BOTH_ENDS = 0.5
-#: bounds of a free zero: |F0| <= ZERO_SPAN F, |F1| <= ZERO_SPAN F v / d (the peak force over
-#: the time of one radian of the fastest cycle: any slow drift is inside)
-ZERO_SPAN = 0.3
-
-
-def zero_force(F0, F1, t) -> np.ndarray:
-    """The load cell's zero F0 + F1 (t - t_mid) [kN] on the test's clock t [s]
-    (t_mid its middle); F0 [kN], F1 [kN/s] scalars or (pop, 1) columns."""
-    t = np.asarray(t, dtype=float)
-    return F0 + F1 * (t - 0.5 * (t[0] + t[-1]))
-
-
-@dataclass(frozen=True)
-class RestPin:
-    """The rests of one test, in two groups (before and after its middle
-    time, t_mid), and the zero they read: the median of the residual over
-    each group (eq. 18's L1 constant, robust to a sample at a rest's edge
-    where the motion has begun), a line through the two medians (at the
-    groups' median times) when they lie at least BOTH_ENDS of the test's
-    duration apart, else that constant with F1 = 0."""
-
-    groups: tuple  # boolean (n,) masks, one or two
-    times: tuple  # their median times [s] - t_mid
-
-    @classmethod
-    def of(cls, test) -> "RestPin | None":
-        still = rest_mask(test)
-        if not still.any():
-            return None
-        mid = 0.5 * (test.t[0] + test.t[-1])
-        groups = [g for g in (still & (test.t < mid), still & (test.t >= mid)) if g.any()]
-        times = [float(np.median(test.t[g])) - mid for g in groups]
-        if len(groups) == 2 and times[1] - times[0] < BOTH_ENDS * (test.t[-1] - test.t[0]):
-            groups, times = [still], [float(np.median(test.t[still])) - mid]
-        return cls(tuple(groups), tuple(times))
-
-    @property
-    def still(self) -> np.ndarray:
-        return np.logical_or.reduce(self.groups)
-
-    def zero(self, r: np.ndarray) -> np.ndarray:
-        """(pop, 2) (F0, F1) of residuals r (pop, n) = F_measured - F_model."""
-        r = np.atleast_2d(r)
-        m = [np.median(r[:, g], axis=1) for g in self.groups]
-        if len(m) == 1:
-            return np.column_stack([m[0], np.zeros(len(r))])
-        ta, tb = self.times
-        slope = (m[1] - m[0]) / (tb - ta)
-        return np.column_stack([m[0] - slope * ta, slope])
-
-
-class ZeroProblem:
-    """Eq. 18 of ``model`` plus each test's zero on a device (module
-    docstring): the model's parameters (``Layout``, the caller's per-test
-    ones too) and (F0, F1) of each test without rests are the unknowns;
-    the zero of a test with rests follows from them (``RestPin``)."""
-
-    def __init__(self, model, device, per_test=(), overrides=None, start=None):
-        self.model, self.device = model, device
-        self.layout = Layout(model, tuple(device.test_names), tuple(per_test))
-        s = device.scales()
-        b = np.array(self.layout.repeat(list(model.bounds("auto", s))), dtype=float)
-        b = apply_overrides(self.layout.names, model.spec, b, overrides or {})
-        log = list(self.layout.repeat(list(model.log_scale("auto"))))
-        self.pins = [RestPin.of(t) for t in device.tests]
-        self.free = [k for k, p in enumerate(self.pins) if p is None]
-        span = ZERO_SPAN * s["F"]
-        for _ in self.free:
-            b = np.vstack([b, [-span, span], [-span * s["v"] / s["d"], span * s["v"] / s["d"]]])
-            log += [False, False]
-        if start is not None:  # the start inside (a widened bound of the base's)
-            b[:, 0], b[:, 1] = np.minimum(b[:, 0], start), np.maximum(b[:, 1], start)
-        self.space = Space.of(b, log)
-        self.c = [w * objective_weights(t.F, t.t) if w != 0.0 else None
-                  for t, w in zip(device.tests, device.weights)]
-
-    @property
-    def n_model(self) -> int:
-        return len(self.layout.names)
-
-    def parts(self, P) -> list:
-        """Per test: (model force (pop, n), zero (pop, 2)) of parameter rows P (pop, n_cols)."""
-        P = np.atleast_2d(P)
-        out, j = [], self.n_model
-        for k, (test, pin) in enumerate(zip(self.device.tests, self.pins)):
-            F = self.model.force(test, self.layout.for_test(P[:, :self.n_model], k))
-            if pin is None:
-                z = P[:, j:j + 2]
-                j += 2
-            else:
-                z = pin.zero(test.F[None, :] - F)
-            out.append((F, z))
-        return out
-
-    def residuals(self, X) -> np.ndarray:
-        """w_k c (F_model + zero - F), test after test: eq. 18's terms (pop, sum n)."""
-        P = self.space.to_params(np.atleast_2d(X))
-        return np.concatenate([c * (F + zero_force(z[:, :1], z[:, 1:], t.t) - t.F)
-                               for (F, z), t, c in zip(self.parts(P), self.device.tests, self.c) if c is not None],
-                              axis=-1)
-
-    def evaluate(self, X) -> np.ndarray:
-        of = np.abs(self.residuals(X)).sum(axis=-1)
-        return np.where(np.isfinite(of), of, np.inf)
-
-    def values(self, P) -> tuple[dict, dict]:
-        """({test: (F0 [kN], F1 [kN/s])}, {test: the model's median force over
-        its rests [kN], None without rests}) at one parameter row."""
-        parts = self.parts(np.asarray(P)[None, :])
-        zeros = {name: (float(z[0, 0]), float(z[0, 1])) for name, (_, z) in zip(self.device.test_names, parts)}
-        rest = {name: None if pin is None else float(np.median(F[0, pin.still]))
-                for name, (F, _), pin in zip(self.device.test_names, parts, self.pins)}
-        return zeros, rest
 
 
 @dataclass
@@ -193,36 +59,42 @@ class ZeroFit:
     residual: np.ndarray
 
 
-def solve(model, params, record, per_test=(), overrides=None, zero=None) -> ZeroFit:
+def solve(model, params, record, per_test=(), overrides=None) -> ZeroFit:
     """``model`` plus the tests' zero on ``record`` (a Record or a Device),
-    fitted by least squares on eq. 18 (``ZeroProblem``; FROM_START, as
-    ``fit.polish_model`` solves) from ``model``'s ``params`` (a fit's
-    vector, with ``per_test``) and, for a test without rests, its zero
-    ``zero[test]`` = (F0, F1) (default the least-squares line through its
-    residual); never worse than that start."""
+    fitted by least squares on eq. 18 with the zero profiled out
+    (``fit.zero``; FROM_START, as ``fit.polish_model`` solves) from
+    ``model``'s ``params`` (a fit's vector, with ``per_test``); never worse
+    than that start."""
     device = as_device(record)
     pt = free(model, per_test)
-    params = np.asarray(params, dtype=float)
-    layout = Layout(model, tuple(device.test_names), pt)
-    start = [params]
-    for k in (k for k, t in enumerate(device.tests) if RestPin.of(t) is None):
-        test, name = device.tests[k], device.test_names[k]
-        if zero is not None:
-            start.append(np.asarray(zero[name], dtype=float))
-            continue
-        r = test.F - model.force(test, layout.for_test(params[None, :], k))[0]
-        A = np.column_stack([np.ones(test.n), test.t - 0.5 * (test.t[0] + test.t[-1])])
-        start.append(np.linalg.lstsq(A, r, rcond=None)[0])
-    x0 = np.concatenate(start)
-    prob = ZeroProblem(model, device, pt, overrides, x0)
-    u0 = prob.space.to_unit(x0)[None, :]
-    found = run_local(prob.evaluate, prob.residuals, prob.space.n, np.random.default_rng(0), FROM_START, None, u0,
-                      prob.layout.stepped)
-    x, of = found.x, found.of
-    P = prob.space.to_params(x) if of < prob.evaluate(u0)[0] else x0
-    r = prob.residuals(prob.space.to_unit(P)[None, :])[0]
-    weights = np.concatenate([c for c in prob.c if c is not None])
-    return ZeroFit(P[:prob.n_model], *prob.values(P), float(np.abs(r).sum()), r / weights)
+    P, of = polish_model(model, device, np.asarray(params, dtype=float), per_test=pt, overrides=overrides,
+                         force_zero=True)
+    layout = Layout(model, tuple(device.test_names), pt, True)
+    weights = residual_weights(device)
+    zero = zero_values(model, device, layout, P, weights)
+    residual, rest = [], {}
+    for k, test in enumerate(device.tests):
+        F = model.force(test, layout.for_test(P[None, :], k))[0]
+        residual.append(test.F - F - zero_force(*zero.get(test.name, (0.0, 0.0)), test.t))
+        still = rest_mask(test)
+        rest[test.name] = float(np.median(F[still])) if still.any() else None
+    return ZeroFit(P, zero, rest, float(of), np.concatenate(residual))
+
+
+def beside(model, fit, record, per_test=()):
+    """A FitResult ``fit`` of ``model`` refitted beside the tests' force zero
+    (``solve`` from it, within its widened bounds): its parameters, OF, each
+    test's OF and the zero (``FitResult.zero``)."""
+    device = as_device(record)
+    pt = free(model, per_test)
+    P, of = polish_model(model, device, fit.params, per_test=pt, overrides=dict(fit.widened or {}),
+                         force_zero=True)
+    layout = Layout(model, tuple(device.test_names), pt, True)
+    weights = residual_weights(device)
+    test_of = [evaluate_params(model, t, layout.for_test(P[None, :], k)[0], force_zero=True)
+               for k, t in enumerate(device.tests)]
+    return replace(fit, params=P, of=float(of), test_of=test_of,
+                   zero=zero_values(model, device, layout, P, weights))
 
 
 @dataclass
@@ -310,7 +182,7 @@ def check(model, base_fit, record, candidates, judge, per_test=(), progress=None
     if progress:
         progress(f"  the tests' force zero     OF {zero.of:.5g} ({(zero.of - base_fit.of) / base_fit.of:+.1%})")
     for c in judged:
-        with_effect = solve(c.model, c.fit.params, device, per_test, overrides, fit.values)
+        with_effect = solve(c.model, c.fit.params, device, per_test, {**overrides, **dict(c.fit.widened or {})})
         of_c = min(with_effect.of, zero.of)  # the effect switched off gives the base's zero fit
         ok, why, _, _ = judge.verdict(zero.of, of_c, len(c.model.parameters) - len(model.parameters),
                                       with_effect.residual)
