@@ -10,6 +10,9 @@ FACTORS = {
     "v": {"mm/s": 1.0, "m/s": 1e3, "cm/s": 10.0, "in/s": 25.4},
 }
 CANONICAL = {"t": "s", "d": "mm", "F": "kN", "v": "mm/s"}
+#: other spellings of the units above, as headers write them (``unit_name``)
+ALIASES = {"sec": "s", "msec": "ms", "\u00b5m": "um", "\u03bcm": "um", "inch": "in", "lb": "lbf", "lbs": "lbf",
+           "kips": "kip", "mm/sec": "mm/s", "m/sec": "m/s", "in/sec": "in/s", "ips": "in/s"}
 
 
 def factor(quantity: str, unit: str, where: str = "") -> float:
@@ -20,6 +23,22 @@ def factor(quantity: str, unit: str, where: str = "") -> float:
     if unit not in table:
         raise InputError(f"{where}unknown unit '{unit}' for {quantity} (known: {', '.join(table)})")
     return table[unit]
+
+
+def unit_name(quantity: str, text: str) -> str | None:
+    """The table's name of the unit ``text`` of ``quantity`` (t, d, F or v)
+    as a header writes it ('KN', 'sec', 'lbs'), None when it is not a unit
+    of that quantity: an exact name, an alias (ALIASES), or the one name
+    equal to it ignoring case."""
+    table = FACTORS.get(quantity, {})
+    text = text.strip()
+    if text in table:
+        return text
+    alias = ALIASES.get(text) or ALIASES.get(text.lower())
+    if alias in table:
+        return alias
+    same = [u for u in table if u.lower() == text.lower()]
+    return same[0] if len(same) == 1 else None
 
 
 #: the package's own unit system {F, d, t}

@@ -123,7 +123,8 @@ def test_metres_and_newtons_are_refused(refusals, files, verb):
     args, res = refusals[(verb, "si")]
     assert res.returncode == 2, res.stdout + res.stderr
     assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr
-    assert res.stderr.startswith("fvd-bridge: si.csv: peak force per stroke") and "--units" in res.stderr
+    assert res.stderr.startswith("fvd-bridge: si.csv: columns 'd' and 'F'") and "is d in m and F in N?" in res.stderr
+    assert "--units d=m,F=N" in res.stderr
     assert not (files["root"] / args[args.index("--out") + 1]).exists()
 
 

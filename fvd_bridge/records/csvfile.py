@@ -2,8 +2,11 @@
 
 Cells are separated by commas (or semicolons, tabs or blanks, detected from
 the header). Canonical columns are ``t,d,F`` (and optional ``v``); other
-names come from ``ReadOptions.columns``. Rows in messages are the file's own
-line numbers, counted from 1.
+names come from ``ReadOptions.columns``. A header cell may carry its unit,
+``d [mm]`` or ``F (kN)`` (any unit of fvd_bridge.units, ``unit_name``): the
+column is then found by its bare name too, and the unit is the file's
+(``RawColumns.units``; ``--units`` and the sidecar win). Rows in messages are
+the file's own line numbers, counted from 1.
 """
 
 from __future__ import annotations
@@ -13,12 +16,15 @@ import re
 
 import numpy as np
 
-from ..errors import InputError
-from .options import ReadOptions
+from ..errors import InputError, option
+from ..units import FACTORS, unit_name
+from .options import Given, ReadOptions
 from .raw import RawColumns
 
 #: separators tried on the header line, in order of preference; None: blanks
 DELIMITERS = (",", ";", "\t")
+#: a header cell with its unit: 'd [mm]', 'F (kN)', 't[s]'
+WITH_UNIT = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<b>[^\]]*)\]|\((?P<p>[^)]*)\))$")
 
 
 def read_csv(path: str, opts: ReadOptions) -> RawColumns:
@@ -35,7 +41,7 @@ def read_csv(path: str, opts: ReadOptions) -> RawColumns:
                          f"('{header_line.strip()[:40]}')")
     if not body:
         raise InputError(f"{path}: row {header_no}: a header but no data rows")
-    index, names = _locate(path, header_no, header, opts)
+    index, names, units = _locate(path, header_no, header, opts)
     rows = np.array([no for no, _ in body], dtype=int)
     data = {key: np.empty(rows.size) for key in index}
     for j, (no, line) in enumerate(body):
@@ -56,7 +62,7 @@ def read_csv(path: str, opts: ReadOptions) -> RawColumns:
     time_given = "t" in data
     if not time_given:
         data["t"], names["t"] = opts.dt * np.arange(rows.size), f"<dt {opts.dt:g} s from --dt or sidecar>"
-    return RawColumns(data, rows, names, time_given)
+    return RawColumns(data, rows, names, time_given, units)
 
 
 def _lines(path: str) -> list[str]:
@@ -89,20 +95,45 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> tuple[dict, dict]:
-    """Header position of each wanted column; v is optional, t may come from dt."""
+def _split_unit(cell: str) -> tuple[str, str | None]:
+    """'d [mm]' -> ('d', 'mm'); 'F (kN)' -> ('F', 'kN'); 'load' -> ('load', None)."""
+    m = WITH_UNIT.match(cell)
+    if not m or not m.group("name"):
+        return cell, None
+    return m.group("name"), (m.group("b") if m.group("b") is not None else m.group("p")).strip()
+
+
+def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> tuple[dict, dict, dict]:
+    """Header position of each wanted column (by its cell, or its name
+    without the unit), and the units the header gives (unless --units or
+    the sidecar does); v is optional, t may come from dt."""
     wanted = {"t": "t", "d": "d", "F": "F", **opts.columns}
-    index, names = {}, {}
+    bare = [_split_unit(h) for h in header]
+    index, names, units = {}, {}, {}
     for key, col in wanted.items():
-        if col in header:
-            index[key], names[key] = header.index(col), col
+        found = header.index(col) if col in header else next(
+            (i for i, (name, _) in enumerate(bare) if name == col), None)
+        if found is not None:
+            index[key], names[key] = found, header[found]
             continue
         if key == "t" and "t" not in opts.columns and opts.dt is not None:
             continue  # time from --dt
         hint = "" if key in opts.columns else (
-            "; name the columns with --columns t=...,d=...,F=... or a sidecar YAML")
+            f"; name the columns with {option('--columns', Given(t='...', d='...', F='...'))} or a sidecar YAML")
         raise InputError(f"{path}: row {header_no}, column '{col}' (for {key}) not found; the header has: "
                          f"{', '.join(header)}{hint}")
-    if "v" not in index and "v" in header and "v" not in opts.columns and not opts.derive_velocity:
-        index["v"], names["v"] = header.index("v"), "v"
-    return index, names
+    if "v" not in index and "v" not in opts.columns and not opts.derive_velocity:
+        found = next((i for i, (name, _) in enumerate(bare) if name == "v"), None)
+        if found is not None:
+            index["v"], names["v"] = found, header[found]
+    for key, i in index.items():
+        text = bare[i][1]
+        if text is None or key in opts.units:
+            continue
+        unit = unit_name(key, text)
+        if unit is None:
+            raise InputError(f"{path}: row {header_no}, column '{header[i]}': unknown unit '{text}' for {key} "
+                             f"(known: {', '.join(FACTORS[key])}); give it with "
+                             f"{option('--units', Given({key: 'UNIT'}))}")
+        units[key] = unit
+    return index, names, units

@@ -103,3 +103,16 @@ def quantum(x: np.ndarray) -> float:
     k = np.maximum(np.round(steps / q), 1.0)
     on_grid = np.abs(steps - k * q) < 0.1 * q
     return q if np.mean(on_grid) >= QUANTIZED_FRACTION else 0.0
+
+
+def roughness(x: np.ndarray) -> tuple[float, float]:
+    """How rough a signal is for its range (any unit): (its white noise, the
+    4th-difference estimate of ``displacement_noise`` with its quantization
+    floor, / its std; the RMS of its 2nd difference / its std). A smooth,
+    band-limited command (an actuator's sine or earthquake history) is low
+    in both; a damper's force is rougher (noise of a load cell, jumps at
+    reversals, the velocity's harmonics). (0, 0) for a constant."""
+    scale = float(np.std(x))
+    if x.size < 5 or scale == 0.0:
+        return 0.0, 0.0
+    return displacement_noise(x) / scale, float(np.sqrt(np.mean(np.diff(x, 2) ** 2))) / scale

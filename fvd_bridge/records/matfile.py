@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.io
 
-from ..errors import InputError
-from .options import ReadOptions
+from ..errors import InputError, option
+from .options import Given, ReadOptions
 from .raw import RawColumns
 
 #: scalar variable taken as the time step [s] when no t column and no dt is given
@@ -30,7 +30,8 @@ def read_mat(path: str, opts: ReadOptions) -> RawColumns:
     variables = [k for k in mat if not k.startswith("__")]
     for key in ("d", "F"):
         if key not in opts.columns:
-            raise InputError(f"{path}: say which column holds {key}, e.g. --mat-var x_F --columns d=0,F=2 "
+            raise InputError(f"{path}: say which column holds {key}, e.g. {option('--mat-var', 'x_F')} "
+                             f"{option('--columns', Given(d=0, F=2))} "
                              f"(variables: {_listing(variables)})")
     if opts.mat_var is not None:
         data, names = _from_matrix(path, mat, variables, opts)
@@ -94,12 +95,12 @@ def _from_vectors(path: str, mat: dict, variables: list[str], opts: ReadOptions)
     data, names = {}, {}
     for key, var in opts.columns.items():
         if var not in mat:
-            hint = " (give --mat-var NAME for column indices)" if var.lstrip("-").isdigit() else ""
+            hint = f" (give {option('--mat-var', 'NAME')} for column indices)" if var.lstrip("-").isdigit() else ""
             raise InputError(f"{path}: variable '{var}' (for {key}) not found{hint} (variables: {_listing(variables)})")
         arr = _numeric(path, mat, var)
         if arr.ndim > 2 or (arr.ndim == 2 and min(arr.shape) > 1):
             raise InputError(f"{path}: variable '{var}' (for {key}) is {'x'.join(map(str, arr.shape))}, not a vector; "
-                             f"use --mat-var {var} --columns {key}=INDEX")
+                             f"use {option('--mat-var', var)} {option('--columns', Given({key: 'INDEX'}))}")
         data[key], names[key] = arr.ravel(), var
     lengths = {names[k]: v.size for k, v in data.items()}
     if len(set(lengths.values())) > 1:
@@ -118,5 +119,5 @@ def _time_step(path: str, mat: dict, opts: ReadOptions) -> tuple[float, str]:
             dt = float(ts.ravel()[0])
             if np.isfinite(dt) and dt > 0:
                 return dt, f"variable {TS_VARIABLE}"
-        raise InputError(f"{path}: variable '{TS_VARIABLE}' is not a positive time step; give --dt SECONDS")
-    raise InputError(f"{path}: no time column; give --dt SECONDS or --columns t=...")
+        raise InputError(f"{path}: variable '{TS_VARIABLE}' is not a positive time step; give {option('--dt', 'SECONDS')}")
+    raise InputError(f"{path}: no time column; give {option('--dt', 'SECONDS')} or {option('--columns', Given(t='...'))}")

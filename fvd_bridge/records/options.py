@@ -32,6 +32,14 @@ FORCE_SIGNS = ("flip", "keep")
 NO_COLUMN = "none"
 
 
+class Given(dict):
+    """Columns or units as each caller writes them (errors.option): 'd=F,F=d'
+    on the command line (str), {'d': 'F', 'F': 'd'} in Python (repr)."""
+
+    def __str__(self) -> str:
+        return ",".join(f"{k}={v}" for k, v in self.items())
+
+
 @dataclass
 class ReadOptions:
     """How to read a record.

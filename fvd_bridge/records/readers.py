@@ -7,14 +7,19 @@ window chosen per sample, velocity.py) and noise estimates -> doubts ->
 provenance. Any fault is an InputError naming the file, row and column; notes
 (resampling, suspicious units, no unit information at all) are kept in
 ``Record.warnings`` and issued as RecordWarning. Doubts are notes that make
-a fit of the record wrong until the user settles them (loops that generate
-energy: the force's sign; a force per stroke beyond any damper test's: the
-units); they come first in ``Record.warnings``, and a verb that fits or
-judges the record refuses them (``read_record(..., refuse_doubts=True)``).
+a fit of the record wrong until the user settles them, in this order: d and
+F columns that look swapped (validate.swapped_columns_note), magnitudes no
+damper test has in a file without units (plausible.unit_doubt), loops that
+generate energy (the force's sign; not asked when the columns look
+swapped). They come first in ``Record.warnings``, and a verb that fits or
+judges the record refuses them (``read_record(..., refuse_doubts=True)``);
+a fault found later that the first two explain (a unit absurd, a measured
+velocity far off) is reported as that doubt.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import warnings
 
@@ -22,11 +27,11 @@ import numpy as np
 
 from ..errors import InputError, option
 from ..units import CANONICAL, factor, unit_system
-from . import validate
+from . import plausible, validate
 from .cycles import displacement_noise
 from .csvfile import read_csv
 from .matfile import read_mat
-from .options import FORCE_SIGNS, ReadOptions, parse_mapping, with_sidecar
+from .options import FORCE_SIGNS, Given, ReadOptions, parse_mapping, with_sidecar
 from .raw import RawColumns
 from .record import Record
 from .velocity import acceleration_from_velocity, check_settings, derive
@@ -138,9 +143,9 @@ def read_as_stored(source, name: str | None = None) -> Record | None:
 def _checked(path: str, opts: ReadOptions) -> ReadOptions:
     """Refuse option values that no file could satisfy (the sidecar checked its own)."""
     for key, unit in opts.units.items():
-        factor(key, unit, f"{path}: --units {key}={unit}: ")
+        factor(key, unit, f"{path}: {option('--units', Given({key: unit}))}: ")
     if opts.dt is not None and not (np.isfinite(opts.dt) and opts.dt > 0):
-        raise InputError(f"--dt {opts.dt:g}: must be a positive time step in s")
+        raise InputError(f"{option('--dt', f'{opts.dt:g}')}: must be a positive time step in s")
     check_settings(opts.sg_window, opts.sg_order)
     if opts.force_sign not in (None, *FORCE_SIGNS):
         raise InputError(f"{option('--force-sign', opts.force_sign)}: expected {' or '.join(FORCE_SIGNS)}")
@@ -152,10 +157,11 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     validate.check_length(path, raw.rows)
     for key, x in raw.data.items():
         validate.check_finite(path, raw.names[key], x, raw.rows)
-    units = {k: opts.units.get(k, CANONICAL[k]) for k in raw.data}
+    stated = {**raw.units, **opts.units}  # the caller's and the sidecar's win over the header's
+    units = {k: stated.get(k, CANONICAL[k]) for k in raw.data}
     if not raw.time_given:
         if "t" in opts.units and opts.units["t"] != "s":
-            notes.append(f"{path}: --units t={opts.units['t']} ignored: there is no time column "
+            notes.append(f"{path}: {option('--units', Given(t=opts.units['t']))} ignored: there is no time column "
                          f"and the time step is in s")
         units["t"] = "s"
     factors = {k: factor(k, units[k], f"{path}: ") for k in raw.data}
@@ -164,17 +170,20 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
         conv["F"] = -conv["F"]
     t = conv.pop("t")
     off_grid = validate.check_time(path, raw.names["t"], t, raw.rows)
-    for key in ("d", "F", "v"):
-        if key in conv:
-            validate.check_signal(path, raw.names[key], key, conv[key], raw.rows,
-                                  units[key], factors[key], CANONICAL[key])
-    t, conv, note = validate.uniform_grid(t, conv, path, off_grid)
-    notes += [note] if note else []
-    n_cycles = validate.check_cycles(path, raw.names["d"], conv["d"])
-    dt = float(t[1] - t[0])
-    der = derive(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ", t0=float(t[0]))
+    early = _early_doubts(path, raw, opts, conv, stated)
+    with _explained_by(early):
+        for key in ("d", "F", "v"):
+            if key in conv:
+                validate.check_signal(path, raw.names[key], key, conv[key], raw.rows,
+                                      units[key], factors[key], CANONICAL[key])
+        t, conv, note = validate.uniform_grid(t, conv, path, off_grid)
+        notes += [note] if note else []
+        n_cycles = validate.check_cycles(path, raw.names["d"], conv["d"])
+        dt = float(t[1] - t[0])
+        der = derive(conv["d"], dt, opts.sg_window, opts.sg_order, f"{path}: ", t0=float(t[0]))
+        if "v" in conv:
+            validate.check_velocity(path, raw.names["v"], conv["v"], der.v)
     if "v" in conv:
-        validate.check_velocity(path, raw.names["v"], conv["v"], der.v)
         v = conv["v"]
         v_noise = np.full(v.size, displacement_noise(v))
         a, a_noise, acc = acceleration_from_velocity(v, dt, opts.sg_window, opts.sg_order, f"{path}: ",
@@ -183,16 +192,18 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
                "v_noise_mm_s": float(v_noise[0]), "acceleration": acc}
     else:
         v, a, v_noise, a_noise, vel = der.v, der.a, der.v_noise, der.a_noise, der.settings
-    if not opts.units:
+    if not stated:
         notes.append(f"{path}: no unit information: read as " + ", ".join(
             f"{k} [{CANONICAL[k]}]" for k in ("t", "d", "F", "v") if k in raw.data)
-            + "; give --units or a sidecar")
-    notes += validate.unit_notes(path, dt, conv["d"], raw.names)
+            + f"; give {option('--units')} or a sidecar")
+    notes += validate.unit_notes(path, dt, raw.names)
     notes += validate.rest_offset_note(path, t, conv["d"], conv["F"], raw.names)
     prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
             "columns": dict(raw.names), "units": units, "factors": factors,
             "rows": [int(raw.rows[0]), int(raw.rows[-1])], "resampled": note is not None,
             "velocity": vel, "cycles": round(n_cycles, 2)}
+    if raw.units:
+        prov["header_units"] = dict(raw.units)
     if opts.mat_var is not None and prov["format"] == "mat":
         prov["mat_var"] = opts.mat_var
     if opts.sidecar:
@@ -202,9 +213,32 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     rec = Record(t, conv["d"], conv["F"], v, a, name=name or os.path.splitext(os.path.basename(path))[0],
                  provenance=prov, warnings=notes, d_noise=der.d_noise, v_noise=v_noise, a_noise=a_noise,
                  windows=None if "v" in conv else (der.v_window, der.a_window))
-    doubts = [note for note in (
-        validate.scale_mismatch(path, rec.scales(), validate.DAMPER_TESTS, "the stiffest damper tests"),
-        None if opts.force_sign else validate.reversed_force_note(path, raw.names["F"], t, rec.F, rec.v)) if note]
+    swapped = any("look swapped" in doubt for doubt in early)
+    sign = None if opts.force_sign or swapped else validate.reversed_force_note(path, raw.names["F"], t, rec.F, rec.v)
+    doubts = early + ([sign] if sign else [])
     rec.provenance["doubts"] = doubts
     rec.warnings[:0] = doubts
     return rec
+
+
+def _early_doubts(path: str, raw: RawColumns, opts: ReadOptions, conv: dict, stated: dict) -> list[str]:
+    """The doubts seen on the columns as read (kN, mm), before any other
+    check: the d and F columns swapped, then a file without units whose
+    magnitudes no damper test has."""
+    specs = {k: opts.columns.get(k, k) for k in ("d", "F")}
+    doubts = (validate.swapped_columns_note(path, raw.names, specs, conv["d"], conv["F"]),
+              plausible.unit_doubt(path, conv["d"], conv["F"], raw.names, stated))
+    return [doubt for doubt in doubts if doubt]
+
+
+@contextlib.contextmanager
+def _explained_by(doubts: list[str]):
+    """A fault found within that an earlier doubt explains (a unit absurd, a
+    measured velocity off, too few cycles of a force read as d) is reported
+    as the doubt, which names the cause."""
+    try:
+        yield
+    except InputError:
+        if doubts:
+            raise InputError(doubts[0]) from None
+        raise

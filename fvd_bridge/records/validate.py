@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from .cycles import count_cycles
+from ..errors import InputError, option
+from .cycles import count_cycles, roughness
+from .options import Given
+from .plausible import ABSURD, LONG_STEP_S
 
 #: relative deviation of a time step from the median step that is tolerated
 #: by resampling onto a uniform grid (beyond it the record is refused)
@@ -17,18 +19,12 @@ TIME_STEP_TOLERANCE = 0.10
 #: times within this fraction of a step of a uniform grid are round-off of
 #: that grid: they are replaced by it without interpolation or warning
 TIME_GRID_JITTER = 1.0e-3
-#: peaks beyond these (kN, mm, mm/s) are absurd for a damper: a unit is wrong
-ABSURD = {"F": 5.0e4, "d": 5.0e3, "v": 5.0e4}
 #: fewest samples a record may have
 MIN_SAMPLES = 8
 #: fewest displacement cycles a record may have (a little under 1 for round-off)
 MIN_CYCLES = 0.95
 #: measured and differentiated peak velocity may differ by this factor either way
 VELOCITY_RATIO = 10.0
-#: notes: a step above this [s] or a displacement amplitude below this [mm]
-#: usually means a unit was left out (time in ms, displacement in m)
-LONG_STEP_S = 1.0
-SMALL_AMPLITUDE_MM = 0.05
 
 
 def check_length(where: str, rows: np.ndarray) -> None:
@@ -98,7 +94,8 @@ def check_signal(where: str, name: str, quantity: str, x: np.ndarray, rows: np.n
     if quantity in ABSURD and abs(x[i]) > ABSURD[quantity]:
         raise InputError(f"{where}: row {rows[i]}, column '{name}': {quantity} = {x[i] / to_canonical:.4g} {unit} "
                          f"is absurd for a damper test (limit {ABSURD[quantity]:g} {canonical}); "
-                         f"check the units (set them with --units {quantity}=UNIT or the sidecar)")
+                         f"check the units (set them with {option('--units', Given({quantity: 'UNIT'}))} "
+                         f"or the sidecar)")
 
 
 def check_cycles(where: str, name: str, d: np.ndarray) -> float:
@@ -118,17 +115,46 @@ def check_velocity(where: str, name: str, v: np.ndarray, v_from_d: np.ndarray) -
                          f"that of the displacement's derivative ({ref:.4g} mm/s); check the units of v and d")
 
 
-def unit_notes(where: str, dt: float, d: np.ndarray, names: dict) -> list[str]:
-    """Notes on a time step [s] or displacement amplitude [mm] that suggest a missing unit."""
-    notes = []
-    if dt > LONG_STEP_S:
-        notes.append(f"{where}: column '{names['t']}': time step {dt:g} s is long for a damper test; "
-                     f"is time in ms? (--units t=ms)")
-    amp = 0.5 * float(np.ptp(d))
-    if amp < SMALL_AMPLITUDE_MM:
-        notes.append(f"{where}: column '{names['d']}': displacement amplitude {amp:.3g} mm is very small; "
-                     f"is it in m? (--units d=m)")
-    return notes
+def unit_notes(where: str, dt: float, names: dict) -> list[str]:
+    """A note on a time step [s] that suggests time in ms (plausible.LONG_STEP_S)."""
+    if dt <= LONG_STEP_S:
+        return []
+    return [f"{where}: column '{names['t']}': time step {dt:g} s is long for a damper test; "
+            f"is time in ms? ({option('--units', Given(t='ms'))})"]
+
+
+#: the d and F columns look swapped when the column read as d is the
+#: rougher (cycles.roughness, each channel for its own range): its white
+#: noise SWAPPED times the F column's, and its 2nd difference more. Read the
+#: right way round, the d column is the smoother: on the rig's records of
+#: the ten laws and of its friction, gap and spring devices (paper,
+#: acceptance and earthquake protocols; force noise 0.3-1% of the peak,
+#: displacement noise 0.005-0.02 mm) d's noise share is at most 0.21 of F's
+#: and its 2nd difference 0.47 (a hysteretic law under an earthquake); with
+#: 0.2% force noise and 0.01 mm on a 10 mm stroke, a linear dashpot's 0.54
+#: and 0.68; the shared friction and MR dampers' at most 0.13 and 0.024.
+#: Swapped, the inverse: 1.8 and 1.4 or more.
+SWAPPED = 1.5
+#: an F column whose noise share is below this is exact (a model's output
+#: written out, not a load cell's: real ones are 1e-4 and more): its noise
+#: then tells nothing, and a linear dashpot's exact force is as smooth as
+#: its displacement
+EXACT = 1.0e-5
+
+
+def swapped_columns_note(where: str, names: dict, specs: dict, d: np.ndarray, F: np.ndarray) -> str | None:
+    """The note when the d and F columns look swapped, else None.
+
+    ``names``: the file's names of the columns; ``specs``: how the caller
+    names them in ``--columns`` (header names, .mat indices). The imposed
+    displacement is the smooth, band-limited channel; the damper's force
+    is the rough one (SWAPPED, EXACT)."""
+    (dn, dc), (fn, fc) = roughness(d), roughness(F)
+    if not (fn > EXACT and dn > SWAPPED * fn and dc > fc):
+        return None
+    return (f"{where}: the d and F columns look swapped (column '{names['F']}' is the smoother, band-limited one: "
+            f"column '{names['d']}' has {dn / fn:.3g}x its noise and {dc / fc:.3g}x its 2nd difference, each for "
+            f"its range): name them with {option('--columns', Given(d=specs['F'], F=specs['d']))}")
 
 
 #: a rest at the start of a record counts from this long [s]
@@ -156,7 +182,8 @@ def rest_offset_note(where: str, t: np.ndarray, d: np.ndarray, F: np.ndarray, na
         return []
     return [f"{where}: column '{names['F']}': the record starts with {t[end] - t[0]:.3g} s at rest with a force of "
             f"{offset:.3g} kN ({abs(offset) / peak:.0%} of the peak force): a load-cell offset? leave the rest out "
-            f"with --window {t[end]:.3g},{t[-1]:.6g} (and check the zero of the force)"]
+            f"with {option('--window', f'{t[end]:.3g},{t[-1]:.6g}', t0=f'{t[end]:.3g}', t1=f'{t[-1]:.6g}')} "
+            f"(and check the zero of the force)"]
 
 
 #: the loops generate energy (the force's sign is reversed) when the work
@@ -184,19 +211,16 @@ def reversed_force_note(where: str, name: str, t: np.ndarray, F: np.ndarray, v: 
     dt = float(t[1] - t[0])
     return (f"{where}: column '{name}': the force-displacement loops generate energy (dissipated energy "
             f"{work * dt:.4g} kN mm, {work / scale:.0%} of the sum of |F dd|): the force's sign looks reversed; "
-            f"read it negated with --force-sign flip (sidecar: force_sign: flip), or say the sign is right "
-            f"with --force-sign keep")
+            f"read it negated with {option('--force-sign', 'flip')} (sidecar: force_sign: flip), or say the sign "
+            f"is right with {option('--force-sign', 'keep')}")
 
 
 #: a record whose peak force, stroke or peak force per stroke is this many
 #: times its reference's (or its inverse) is in other units (m for mm, N for
 #: kN: 1000x; both: 10^6x in force per stroke), not another test (a 1%
-#: velocity level moves 25x less than the paper's test)
+#: velocity level moves 25x less than the paper's test). A record on its
+#: own is held against the ranges of any damper test (plausible.py).
 UNIT_MISMATCH = 100.0
-#: the reference of a record on its own: damper tests reach about 50 kN/mm
-#: of peak force per stroke (a 5000 kN damper over +-100 mm; the shared MR
-#: damper 0.01, the friction damper 0.6, the paper's FVDs 7 kN/mm)
-DAMPER_TESTS = {"F/d": (0.0, 50.0)}
 _SCALE_WORDS = {"F": ("peak force", "kN"), "d": ("stroke", "mm"), "F/d": ("peak force per stroke", "kN/mm")}
 
 
@@ -222,5 +246,6 @@ def scale_mismatch(where: str, scales: dict, reference: dict, against: str) -> s
             what, unit = _SCALE_WORDS[key]
             parts = f" ({scales['F']:.4g} kN over {scales['d']:.4g} mm)" if key == "F/d" else ""
             return (f"{where}: {what} {x:.4g} {unit}{parts} is {ratio:.3g}x that of {against} ({bound:.4g} {unit}): "
-                    f"are the record's units right? give them with --units, e.g. --units F=N,d=m")
+                    f"are the record's units right? give them with {option('--units')}, e.g. "
+                    f"{option('--units', Given(F='N', d='m'))}")
     return None
