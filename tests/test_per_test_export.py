@@ -129,3 +129,24 @@ def test_frames_refuse_a_per_test_calibration_from_python(per_test_file):
     cal = fb.Calibration.load(str(per_test_file[0]))
     with pytest.raises(fb.InputError, match="name one with test='A' or test='B'"):
         run_cases(None, None, [cal])
+
+
+def test_the_fmu_of_one_test_holds_its_values_and_names_it(per_test_file, tmp_path, capsys):
+    """`export fmu --test B`: the start value of C is test B's (the file's), checked on B's record; the
+    description and the annotation name the test."""
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    from fvd_bridge.export.fmu_toolchain import toolchain_problem
+
+    if toolchain_problem():
+        pytest.skip(toolchain_problem())
+    path, raw = per_test_file
+    out = tmp_path / "d.fmu"
+    assert cli.main(["export", "fmu", str(path), "-o", str(out), "--test", "B"]) == 0
+    assert "check on B:" in capsys.readouterr().err
+    root = ET.fromstring(zipfile.ZipFile(out).read("modelDescription.xml"))
+    start = {v.get("name"): v.get("start") for v in root.find("ModelVariables")}
+    assert float(start["law2.C"]) == raw["parameters"]["C"]["per_test"]["B"]
+    assert "on device D, test B (C fitted per test: test B's value)" in root.get("description")
+    assert root.find("Annotations/Annotation/Calibration").get("tests") == "B"
