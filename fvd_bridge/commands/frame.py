@@ -150,12 +150,12 @@ def load_inputs(args):
     if args.dampers_per_story < 1:
         raise InputError(f"--dampers-per-story {args.dampers_per_story}: must be at least 1")
     cals = [Calibration.load(f, plugins=args.plugin) for f in calibration_files(args.params)]
-    cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's
     if args.laws:
         wanted = {catalog(args.plugin).model(s.strip()).spec for s in args.laws.split(",")}
         cals = [c for c in cals if c.spec in wanted]
         if not cals:
             raise InputError(f"--laws {args.laws}: none of the calibration files holds these models")
+    cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's
     if args.bounds is not None:
         from ..frames.bounds import read_bounds
 
