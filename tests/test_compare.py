@@ -35,7 +35,7 @@ def compare(*args, cwd=None):
 
 def test_the_exact_model_generalises_and_law1_does_not(fitted, tmp_path):
     from fvd_bridge.calibration import Calibration
-    from fvd_bridge.diagnose.floor import input_noise_floor
+    from fvd_bridge.fit.floor import input_noise_floor
     from fvd_bridge.records import read_record
 
     root, files, _, other = fitted

@@ -224,7 +224,7 @@ def test_a_diagnosis_keeps_what_it_was_run_on(protocol, lab_dir):
     settings and catalog given, and the record's noise floor of each test;
     its parameters and units are its fit's, in the fit's order."""
     from fvd_bridge.diagnose.core import DiagnosisInputs
-    from fvd_bridge.diagnose.floor import NoiseFloor
+    from fvd_bridge.fit.floor import NoiseFloor
 
     rec = rig_record(protocol, lab_dir, "inputs", seed=7)
     cat = catalog()
@@ -363,7 +363,7 @@ def test_the_floor_is_the_records_and_what_the_true_model_reaches(protocol, lab_
     law 2 at the rig's C and alpha on the record, which carries 1 kN force
     and 0.005 mm displacement noise; the floor's 4 Monte Carlo draws and the
     one record's noise make it accurate to about 10%."""
-    from fvd_bridge.diagnose.floor import record_floor
+    from fvd_bridge.fit.floor import record_floor
     from fvd_bridge.fit import evaluate_params
 
     rec = rig_record(protocol, lab_dir, "floor", seed=5)

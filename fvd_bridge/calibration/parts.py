@@ -203,19 +203,29 @@ class SolverStatus:
     """How the search of the calibration's best run ended: its ``optimizer``,
     why it stopped (``stop``: the search's words, e.g. 'local: 1 basin(s)
     from 3 start(s); solves ended: cost settled 3') and the parameter sets it
-    evaluated (``evaluations``, its nested and widened rounds included)."""
+    evaluated (``evaluations``, its nested and widened rounds included);
+    ``floor``: the OF the records' noise alone gives (``fit.floor``), which
+    the search was judged by (None: not judged)."""
 
     optimizer: str
     stop: str = ""
     evaluations: int = 0
+    floor: float | None = None
 
     @classmethod
     def from_dict(cls, block) -> "SolverStatus | None":
         """From the file's 'solver' block (None: not recorded, a file written before it)."""
         if not block:
             return None
-        return cls(str(block.get("optimizer") or ""), str(block.get("stop") or ""), int(block.get("evaluations") or 0))
+        floor = block.get("floor")
+        return cls(str(block.get("optimizer") or ""), str(block.get("stop") or ""), int(block.get("evaluations") or 0),
+                   None if floor is None else float(floor))
 
     def as_dict(self) -> dict:
-        """The file's block: {optimizer, stop, evaluations}."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        """The file's block: {optimizer, stop, evaluations[, floor]}."""
+        return {f.name: getattr(self, f.name) for f in fields(self)
+                if not (f.name == "floor" and self.floor is None)}
+
+    def times_floor(self, of: float) -> float | None:
+        """``of`` over the noise floor (None: no floor)."""
+        return of / self.floor if self.floor else None

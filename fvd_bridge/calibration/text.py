@@ -5,6 +5,7 @@ uncertainty (``report.numbers``)."""
 from __future__ import annotations
 
 from ..fit.layout import SEP
+from ..fit.objective import EXPLAINS_LITTLE, NEAR_FLOOR
 from ..report.numbers import interval, rounded
 
 #: the report lists correlations of at least this magnitude (lmfit's default)
@@ -22,7 +23,7 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
     lines += ["[[Fit Statistics]]",
               f"    device:        {cal.device or cal.record.name} ({len(cal.tests) or 1} test(s), "
               f"{n} samples)",
-              f"    OF (eq. 18):   {cal.of:.6g}"]
+              f"    OF (eq. 18):   {cal.of:.6g}{of_against_floor(cal)}"]
     lines += [f"    OF {t.name}: {t.of:.6g}" for t in cal.tests if len(cal.tests) > 1]
     asked = cal.settings.get("runs", 1)
     made = cal.settings.get("runs_made", asked)
@@ -61,6 +62,18 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
         lines.append("[[Warnings]]")
         lines += [f"    {w}" for w in cal.warnings]
     return "\n".join(lines)
+
+
+def of_against_floor(cal) -> str:
+    """', 12x the records' noise floor 0.0078: FAR ABOVE IT' (empty without a floor):
+    what the OF means, beside it."""
+    ratio = cal.solver.times_floor(cal.of) if cal.solver is not None else None
+    if ratio is None:
+        return ""
+    said = f", {rounded(ratio, digits=2)}x the records' noise floor {rounded(cal.solver.floor, digits=2)}"
+    if cal.of > EXPLAINS_LITTLE:
+        return said + ": THE MODEL EXPLAINS LITTLE OF THE FORCE"
+    return said + (": FAR ABOVE IT (the intervals count the noise only)" if ratio > NEAR_FLOOR else "")
 
 
 def interval_lines(cal) -> list[str]:

@@ -13,8 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import bound_option, option
+from ..errors import bound_option, command, option
+from ..fit.local import L1_TOLERANCE
+from ..fit.objective import EXPLAINS_LITTLE, NEAR_FLOOR
 from .stats import relative_range
+from .tasks import is_wider
 
 #: runs disagree when (max - min) / min of OF over runs exceeds this
 RUN_RANGE = 0.05
@@ -36,6 +39,8 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
                     "message": f"only {d.name} is identifiable ({d.name} = {values.mean():.4g} {d.unit}, spread "
                                f"{_spread(values):.1%} over runs; {first} alone spreads {_spread(alone):.1%}): "
                                f"report {d.name}, not {' and '.join(d.factors)}"})
+    out += floor_warnings(runs, best)
+    runs = [r for r in runs if not is_wider(r)] or runs  # the runs asked for; the wider search's are its own
     ofs = np.array([r.of for r in runs])
     spread = relative_range(ofs) if len(runs) > 1 else 0.0
     if spread > RUN_RANGE:
@@ -49,6 +54,33 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
     if law1_of is not None and model.spec != "1" and ofs.mean() > NO_BETTER * law1_of:
         out.append({"code": "no_better_than_law1", "parameter": None,
                     "message": f"mean OF {ofs.mean():.4g} is no better than law 1's {law1_of:.4g}"})
+    return out
+
+
+def floor_warnings(runs: list, best) -> list[dict]:
+    """The best run against what the record allows: far above its noise
+    floor (the first run's ``floor``: NEAR_FLOOR times it), a force the model
+    explains little of (an OF beyond EXPLAINS_LITTLE), and a wider search
+    that found better than the runs (``campaign.runner``: the runs alone
+    end in another basin on this record)."""
+    out, floor = [], runs[0].floor
+    if best.of > EXPLAINS_LITTLE:
+        out.append({"code": "explains_little", "parameter": None,
+                    "message": f"OF {best.of:.3g}: the model explains little of the measured force (beyond "
+                               f"{EXPLAINS_LITTLE}; a force of zero scores 0.9 on a sine test): check the "
+                               f"record's columns, units and sign, and the law"})
+    elif floor and best.of > NEAR_FLOOR * floor:
+        searched = ", after a wider search" if any(is_wider(r) for r in runs) else ""
+        out.append({"code": "far_above_floor", "parameter": None,
+                    "message": f"OF {best.of:.3g} is {best.of / floor:.0f}x what the record's noise allows "
+                               f"({floor:.2g}){searched}: the model misses part of the record, and the "
+                               f"intervals count the noise only ({command('diagnose')} shows what is missing)"})
+    made = [r.of for r in runs if not is_wider(r)]
+    found = [r.of for r in runs if is_wider(r)]
+    if made and found and min(found) < min(made) * (1.0 - L1_TOLERANCE):
+        out.append({"code": "wider_search_found_better", "parameter": None,
+                    "message": f"the runs asked for ended at OF {min(made):.4g} at best; a wider search found "
+                               f"{min(found):.4g} (the calibration): this record's objective has several basins"})
     return out
 
 

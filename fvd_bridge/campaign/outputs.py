@@ -16,6 +16,7 @@ DIR/figures/*.png   loops, OF bars, parameter dispersion, Pareto front
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 
 import numpy as np
 
@@ -72,6 +73,7 @@ def summarize(records, results: dict, cs) -> dict:
             "of_overall": float(OF.mean()), "runs_made": OF.shape[1],
             "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
             "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, per_dev)},
+            "floor": {dev: runs[0].floor for dev, runs in zip(devices, per_dev)},
         }
     specs = list(cs.specs)
     front = stats.non_dominated(np.array([[models[s]["of_overall"], models[s]["beta"]] for s in specs]))
@@ -94,8 +96,9 @@ def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) ->
             "p_mean": summary_model["p_mean"][dev_index], "p_sigma": summary_model["p_sigma"][dev_index]}
     settings = {**cs.as_dict(), "runs_made": summary_model["runs_made"],
                 "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
-    return Calibration.from_fit(cs.model(spec), best, rec, settings,
-                                [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
+    cal = Calibration.from_fit(cs.model(spec), best, rec, settings,
+                               [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
+    return replace(cal, solver=replace(cal.solver, floor=summary_model["floor"][rec.name]))
 
 
 def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None, intervals=None,

@@ -12,13 +12,14 @@ from ..catalog import catalog as load_catalog
 from ..fit import DEFAULT_OPTIMIZER, settings_for
 from ..fit.intervals import bootstrap_replicas, from_estimates, newton_refits
 from ..fit.layout import Layout
-from ..fit.local import L1_TOLERANCE, SAME_BASIN
+from ..fit.local import L1_TOLERANCE, SAME_BASIN, WIDER
+from ..fit.objective import NEAR_FLOOR
 from ..fit.space import Space
 from ..progress import bar as progress_bar
 from ..records.device import as_device
 from .executors import Processes
 from .news import Listener
-from .tasks import make_tasks, run_task
+from .tasks import make_tasks, run_task, wider_task
 
 
 @dataclass(frozen=True)
@@ -121,6 +122,9 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
     process pool of ``cs.jobs`` workers): first ``first_runs(cs)`` runs of
     each, then the rest of ``cs.runs`` of the models whose first runs do not
     ``repeat_each_other`` on every device (all of them with ``cs.all_runs``).
+    Where the first runs end far above the record's noise floor (NEAR_FLOOR
+    times it), the search looks wider first (``_search_wider``), and a wider
+    round that finds better makes the rest of the runs too.
     The runs made are the first of the same seeded sequence a full campaign
     makes, so their statistics are those of its first runs (2 runs that
     agree bound the share of runs that would not only loosely: the
@@ -143,10 +147,16 @@ def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=
 
 
 def _run_waves(executor, tasks, records, cs, results, bar, k) -> None:
-    """The first ``k`` runs of each (device, model), then the rest of the
-    models whose first runs do not repeat each other (``run_campaign``)."""
+    """The first ``k`` runs of each (device, model); the wider search of the
+    models they leave far above the noise floor (``_search_wider``); then
+    the rest of the models whose first runs do not repeat each other or
+    whose wider search found better (``run_campaign``); each wider round
+    last in its runs."""
     _run(executor, [t for t in tasks if t.run < k], records, cs, results, bar)
-    settled = {spec for spec in cs.specs if k < cs.runs
+    extra = _search_wider(executor, tasks, records, cs, results, bar, k)
+    gained = {key[1] for key, runs in extra.items()
+              if min(r.of for r in runs) < _best_of(results, key, k) * (1.0 - L1_TOLERANCE)}
+    settled = {spec for spec in cs.specs if k < cs.runs and spec not in gained
                and all(repeat_each_other(results[(rec.name, spec)][:k]) for rec in records)}
     for spec in settled:
         bar.total -= len(records) * (cs.runs - k)
@@ -156,6 +166,51 @@ def _run_waves(executor, tasks, records, cs, results, bar, k) -> None:
         named = ", ".join(s for s in cs.specs if s in settled)
         bar.set_description(f"the first {k} runs of {named} agree: not repeated")
     _run(executor, [t for t in tasks if t.run >= k and t.spec not in settled], records, cs, results, bar)
+    for key, runs in extra.items():
+        results[key] += runs
+
+
+def _best_of(results, key, k) -> float:
+    """The best OF of the first ``k`` runs of ``key``."""
+    return min(r.of for r in results[key][:k])
+
+
+def far_above_floor(runs) -> bool:
+    """Whether the best of ``runs`` ends beyond NEAR_FLOOR times the record's
+    noise floor (the first run's ``floor``; False where it is not known)."""
+    floor = runs[0].floor
+    return floor is not None and floor > 0.0 and min(r.of for r in runs) > NEAR_FLOOR * floor
+
+
+def _search_wider(executor, tasks, records, cs, results, bar, k) -> dict:
+    """{(device, spec): [FitResult]}: the wider search rounds (``fit.local.WIDER``:
+    more points and starts, the last with the DE check) of the models whose
+    first ``k`` runs end far above the noise floor on a device.  Round 1
+    always, round 2 where round 1 lowered the OF and it is still far above:
+    two runs that agree in one basin prove nothing when the OF is far above
+    what the record's noise allows.  Every device of such a model gets the
+    round (the run statistics need as many runs on each).  Only for the
+    local search (the paper's GA and DE are run as asked)."""
+    if not cs.optimizer.startswith("local"):
+        return {}
+    first = {(t.device, t.spec): t for t in tasks if t.run == 0}
+    extra = {key: [] for key in first}
+    todo = [spec for spec in cs.specs if any(far_above_floor(results[(rec.name, spec)][:k]) for rec in records)]
+    for round_ in range(1, len(WIDER) + 1):
+        if not todo:
+            break
+        wave = [wider_task(first[(rec.name, spec)], round_, cs.runs + round_ - 1) for spec in todo for rec in records]
+        before = {key: min(r.of for r in results[key][:k] + extra[key]) for key in first}
+        bar.total += len(wave)
+        bar.set_description(f"wider search {round_}/{len(WIDER)} of {', '.join(todo)}: far above the noise floor")
+        for (task, _, _), res in executor.run(run_task, ((t, records[t.device_index], cs) for t in wave)):
+            extra[(task.device, task.spec)].append(res)
+            bar.update()
+        todo = [spec for spec in todo
+                if any(extra[(rec.name, spec)][-1].of < before[(rec.name, spec)] * (1.0 - L1_TOLERANCE)
+                       for rec in records)
+                and any(far_above_floor(results[(rec.name, spec)][:k] + extra[(rec.name, spec)]) for rec in records)]
+    return {key: runs for key, runs in extra.items() if runs}
 
 
 def _run(executor, tasks, records, cs, results, bar) -> None:

@@ -87,7 +87,8 @@ def result_from_dict(d: dict) -> FitResult:
                      widened={n: tuple(b) for n, b in (d.get("widened") or {}).items()},
                      parent=Parent(d["parent"][0], float(d["parent"][1])) if d.get("parent") else None,
                      stop=str(d.get("stop") or ""), flat_ends=list(d.get("flat_ends") or []),
-                     zero={t: tuple(z) for t, z in d["zero"].items()} if d.get("zero") else None)
+                     zero={t: tuple(z) for t, z in d["zero"].items()} if d.get("zero") else None,
+                     floor=None if d.get("floor") is None else float(d["floor"]))
 
 
 def record_digest(rec) -> str:

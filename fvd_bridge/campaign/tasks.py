@@ -8,17 +8,23 @@ and the task's position, never on the order or the process it runs in.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..fit import fit_model, settings_for
+from ..fit.floor import device_floor
+from ..fit.layout import Layout
+from ..fit.local import wider
 from ..fit.nested import nested_start
+from ..records.device import as_device
 from .news import reporter
 
 
 @dataclass(frozen=True)
 class Task:
     """Fit model ``spec`` (``spec_index`` in the campaign) to device ``device``
-    (index ``device_index``), run number ``run``, with ``seed``."""
+    (index ``device_index``), run number ``run``, with ``seed``; ``wider``:
+    round k (1, 2, ...) of the wider search made after the runs where they
+    end far above the record's noise floor (``fit.local.wider``; 0: a run)."""
 
     device_index: int
     device: str
@@ -26,17 +32,35 @@ class Task:
     spec: str
     run: int
     seed: tuple
+    wider: int = 0
 
     @property
     def id(self) -> str:
-        """Stable, filename-safe id: 'device/law<spec>/run<k>'."""
-        return f"{self.device}/law{self.spec}/run{self.run:04d}"
+        """Stable, filename-safe id: 'device/law<spec>/run<k>' ('.../wider<k>' for a wider round)."""
+        which = f"wider{self.wider}" if self.wider else f"run{self.run:04d}"
+        return f"{self.device}/law{self.spec}/{which}"
 
 
 def make_tasks(records, cs) -> list[Task]:
     """Every (device, model, run) of the campaign, in table order."""
     return [Task(i, rec.name, j, spec, r, (cs.seed, i, j, r))
             for i, rec in enumerate(records) for j, spec in enumerate(cs.specs) for r in range(cs.runs)]
+
+
+#: a wider round's seed is (campaign seed, device, model, WIDER_SEED + round): never a run's
+WIDER_SEED = 1_000_000
+
+
+def is_wider(fit) -> bool:
+    """Whether ``fit`` (a FitResult of ``run_task``) is a wider search round's, not a run's (its seed)."""
+    seed = list(fit.seed) if isinstance(fit.seed, (list, tuple)) else [fit.seed]
+    return len(seed) == 4 and seed[-1] >= WIDER_SEED
+
+
+def wider_task(task: Task, round_: int, run: int) -> Task:
+    """The wider search round ``round_`` of ``task``'s (device, model), the ``run``-th fit made of it."""
+    return Task(task.device_index, task.device, task.spec_index, task.spec, run,
+                (task.seed[0], task.device_index, task.spec_index, WIDER_SEED + round_), round_)
 
 
 def run_task(task: Task, record, cs):
@@ -46,11 +70,21 @@ def run_task(task: Task, record, cs):
     --start-value values (the data's start for the other parameters)."""
     model = cs.catalog.model(task.spec)
     settings = settings_for(cs.optimizer, cs.pop, cs.gens, cs.stall)
+    if task.wider:
+        settings = wider(settings, task.wider)
     overrides = {n: b for n, b in cs.overrides_for(task.spec).items() if n in model.names}
     per_test = cs.per_test_for(task.spec)
     given = cs.start_for(task.spec)
     start = (nested_start(model, record, given[0], given[1], per_test) if given is not None
              else cs.start_values_for(task.spec) or None)
-    return fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
-                     settings=settings, overrides=overrides, per_test=per_test, start=start,
-                     on_generation=reporter(task.id), force_zero=cs.fits_zero)
+    fit = fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
+                    settings=settings, overrides=overrides, per_test=per_test, start=start,
+                    on_generation=reporter(task.id), force_zero=cs.fits_zero)
+    if task.run == 0 and not task.wider:  # the floor the runner judges the runs by (campaign.runner)
+        device = as_device(record)
+        layout = Layout(model, tuple(device.test_names), per_test)
+        fit = replace(fit, floor=device_floor(model, layout, fit.params, device))
+    if not task.wider:
+        return fit
+    return replace(fit, stop=f"wider search {task.wider} ({settings.samples} points, {settings.starts} starts"
+                             f"{', DE check' if settings.always_check else ''}): {fit.stop}")

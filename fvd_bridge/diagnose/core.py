@@ -41,7 +41,7 @@ from ..fit.result import Parent
 from ..records.device import as_device
 from . import where as where_mod
 from . import agree, zero as zero_mod
-from .floor import NoiseFloor, record_floor
+from ..fit.floor import NoiseFloor, record_floor
 from .rank import Candidate, Judge, assess, lower_base, refit_all
 
 #: rounds of "a refit found a lower base: polish the base, refit again"

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fit import noise_floor, objective
+from .objective import noise_floor, objective
 from ..model import Model
 from ..records.cycles import force_noise
 from ..records.velocity import rederive, rest_mask
@@ -110,3 +110,11 @@ def record_floor(model, params, record, seed: int = 0) -> NoiseFloor:
     every model with that law."""
     law = Model(model.law, ())
     return input_noise_floor(law, np.asarray(params, dtype=float)[:len(model.law.parameters)], record, seed)
+
+
+def device_floor(model, layout, params, device) -> float:
+    """The noise floor of a device's tests together, as its OF is: the
+    weighted mean of each test's ``record_floor`` at that test's parameters
+    (``layout``: the fit's Layout; ``params``: its column vector)."""
+    floors = [record_floor(model, layout.for_test(params, k)[0], test).floor for k, test in enumerate(device.tests)]
+    return float(np.dot(device.weights, floors))

@@ -9,6 +9,10 @@ AT_FLOOR = 1.5
 #: within this many: close to the noise, little left to explain (the floor's
 #: input-noise part is an estimate); beyond it the model misses part of the record
 NEAR_FLOOR = 3.0
+#: an OF beyond this: the model explains little of the force, whatever the
+#: floor (a force of zero gives mean|F|/std(F), 2 sqrt(2)/pi = 0.90 on a
+#: sine; a model of half the force, 0.45): swapped columns, wrong units or sign, a wrong law
+EXPLAINS_LITTLE = 0.5
 
 
 def objective_weights(F_measured: np.ndarray, t: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:

@@ -45,6 +45,7 @@ class FitResult:
     stop: str = ""  # why the search stopped (the back-end's ``Search.stop``)
     flat_ends: list = field(default_factory=list)  # parameters whose bound widened without lowering the OF
     zero: dict | None = None  # {test: (F0 [kN], F1 [kN/s])}: the tests' force zero fitted beside it (fit.zero)
+    floor: float | None = None  # the record's noise floor (fit.floor.device_floor) where the campaign judged the fit by it
 
     @property
     def parameters(self) -> dict[str, FittedParameter]:

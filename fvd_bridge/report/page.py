@@ -25,7 +25,7 @@ from ..calibration import Calibration, common_tests, same_data
 from ..io.staging import atomic_file, safe_name
 from ..diagnose.where import analyse, summary_lines
 from ..fit import noise_floor
-from ..fit.objective import AT_FLOOR, NEAR_FLOOR
+from ..fit.objective import AT_FLOOR, EXPLAINS_LITTLE, NEAR_FLOOR
 from ..errors import InputError, PluginNeeded
 from ..export.ledger import exports_of
 from ..records.readers import read_as_stored
@@ -95,11 +95,14 @@ def _best(cals: list, records: dict) -> tuple:
 
 
 def _floor(records: dict, cal=None) -> float | None:
-    """The OF the measurement noise alone gives: the calibration's bootstrap
-    (force and displacement noise through the measurement chain, the number
-    its interval note and the terminal give) where it has one, else the
-    records' force noise alone (``fit.noise_floor``, the mean over the tests
-    as the OF is); None without either."""
+    """The OF the measurement noise alone gives: the records' floor the
+    calibration's search was judged by (``fit.floor``, the number its report
+    gives beside the OF), else its bootstrap's (force and displacement noise
+    through the measurement chain), else the records' force noise alone
+    (``fit.noise_floor``, the mean over the tests as the OF is); None
+    without any."""
+    if cal is not None and cal.solver is not None and cal.solver.floor:
+        return float(cal.solver.floor)
     noise_of = cal.intervals.noise_of if cal is not None and cal.intervals else None
     if noise_of is not None and np.isfinite(noise_of) and noise_of > 0:
         return float(noise_of)
@@ -112,6 +115,9 @@ def _how_good(of: float, floor: float | None) -> str:
     if floor is None or floor <= 0:
         return f"OF {rounded(of)} (the records are not found: no noise floor to hold it against)"
     ratio = of / floor
+    if of > EXPLAINS_LITTLE:
+        return (f"OF {rounded(of)}: the model explains little of the measured force (beyond {EXPLAINS_LITTLE}; "
+                f"a force of zero scores 0.9 on a sine test): check the record's columns, units and sign, and the law")
     said = (f"OF {rounded(of)}, {rounded(ratio, digits=2)}x the noise floor of its record(s) ({rounded(floor)}, "
             f"the OF the measurement noise alone gives)")
     if ratio <= AT_FLOOR:
