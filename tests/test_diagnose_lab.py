@@ -318,12 +318,12 @@ def test_tests_that_disagree_on_one_parameter_get_the_per_test_advice(folder):
     text = format_diagnosis(diag)
     assert diag.advice is not None and diag.advice.name == "C", text
     assert diag.verdict().startswith("the tests disagree: C differs between tests"), text
-    assert "calibrate with --per-test C" in diag.verdict()
+    assert "calibrate with per_test=['C']" in diag.verdict()  # from Python, Python's words
     assert diag.advice.values == {"differ_a": pytest.approx(40.0, rel=0.03), "differ_b": pytest.approx(48.0, rel=0.03)}
     # near the floor (the floor is still the base model's, C 25 alpha 0.41 here: issue 31 point 3)
     assert diag.advice.share > 0.8 and diag.advice.of <= 2.0 * diag.floor, text
     assert diag.suggestions == [], text  # no effect takes up the difference
-    assert "next: fvd-bridge diagnose RECORD --device differ --law 2 --per-test C" in text
+    assert "next: fvd_bridge.diagnose(records, '2', device='differ', per_test=['C'])" in text
     # given --per-test C, base and candidates fit C per test: nothing is left to explain
     freed = diagnose(two_tests(folder, "differ", C_second=48.0), "2", seed=0, settings=SETTINGS, per_test=["C"])
     assert freed.per_test == ("C",) and freed.advice is None, format_diagnosis(freed)

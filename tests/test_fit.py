@@ -258,9 +258,9 @@ def test_a_bound_that_widens_by_itself_is_not_to_be_widened_by_hand():
 
     vanished = [w["message"] for w in fit_warnings(model, [fit({"C": (6.9e-11, 900.0)})])]
     assert len(vanished) == 1 and "C ended on its lower bound 6.9e-11" in vanished[0]
-    assert "--bound" not in vanished[0] and "widen by themselves" in vanished[0]
+    assert "bounds=" not in vanished[0] and "widen by themselves" in vanished[0]
     users = [w["message"] for w in fit_warnings(model, [fit({})])]
-    assert "--bound 2:C=" in users[0]
+    assert "bounds={'C': (" in users[0]  # from Python, Python's words (the command line: --bound 2:C=...)
 
 
 def test_a_stepped_coordinate_is_searched_along_its_line():
