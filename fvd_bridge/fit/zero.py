@@ -29,6 +29,13 @@ itself, with no misfit of the law's to take it up.  So:
     no rests: F0 and F1 from the whole motion.
 
 The rests stay in eq. 18 (every sample counts); they only pin the zero.
+A drift is fitted only on a test of at least DRIFT_S: within a few
+seconds the zero is an offset, and a line through a short test's residual
+follows the derived velocity's ends instead.  The first and last half
+window of the record's differentiator (``edges``) never pin the zero: a
+velocity derived at a record's ends is poor, and one sample there can miss
+by 60 kN where the law is steep (the mean of a 500-sample test then moves
+0.3 kN).
 """
 
 from __future__ import annotations
@@ -41,10 +48,13 @@ from ..records.velocity import rest_mask
 
 #: what ``force_zero`` takes: 'none', or each test's zero fitted beside the model
 FORCE_ZERO = ("none", "per-test")
+#: a test this long [s] or longer has its drift F1 fitted; a shorter one F1 = 0
+DRIFT_S = 5.0
 #: rests pin the drift too when they lie this share of the test's duration apart (start and end)
 BOTH_ENDS = 0.5
 #: how a test's zero is pinned, per ``ZeroPin.how``
-PINNED = {"both": "its rests at both ends", "one": "its rests (at one end: no drift)", "motion": "its motion"}
+PINNED = {"both": "its rests at both ends", "one": "its rests (at one end: no drift)", "motion": "its motion",
+          "short": f"no drift: shorter than {DRIFT_S:g} s"}
 
 
 def zero_force(F0, F1, t) -> np.ndarray:
@@ -59,24 +69,26 @@ class ZeroPin:
     """One test's zero as a linear map of its residual (module docstring):
     ``basis`` (n, k) the columns [1, t - t_mid] it has (k = 1: no drift),
     ``fit`` (k, n) the weighted least squares over the samples that pin it
-    (zeros elsewhere), ``how`` a key of PINNED."""
+    (zeros elsewhere), ``how`` a key of PINNED, ``drift`` whether F1 is fitted."""
 
     basis: np.ndarray
     fit: np.ndarray
     how: str
+    drift: bool = True
 
     @classmethod
     def of(cls, test, c: np.ndarray) -> "ZeroPin":
         """The pin of ``test`` whose eq. 18 weights are ``c`` (n,) (zero
         outside a mask: those samples neither pin nor count)."""
-        counted = np.asarray(c) > 0
+        counted = (np.asarray(c) > 0) & ~edges(test)
         still = rest_mask(test) & counted
         tm = test.t - 0.5 * (test.t[0] + test.t[-1])
         how, on = ("motion", counted) if not still.any() else (_rests_reach(test, still), still)
-        basis = np.column_stack([np.ones(test.n), tm] if how != "one" else [np.ones(test.n)])
+        drift = how != "one" and test.t[-1] - test.t[0] >= DRIFT_S
+        basis = np.column_stack([np.ones(test.n), tm] if drift else [np.ones(test.n)])
         w = np.where(on, np.abs(c), 0.0)
         normal = (basis * w[:, None]).T @ basis
-        return cls(basis, np.linalg.pinv(normal) @ (basis * w[:, None]).T, how)
+        return cls(basis, np.linalg.pinv(normal) @ (basis * w[:, None]).T, how, drift)
 
     def zero(self, r: np.ndarray) -> np.ndarray:
         """(pop, 2) (F0 [kN], F1 [kN/s]) of residuals r (pop, n) = F_measured - F_model."""
@@ -86,6 +98,17 @@ class ZeroPin:
     def remove(self, e: np.ndarray) -> np.ndarray:
         """F_model + zero - F_measured of e (pop, n) = F_model - F_measured: what eq. 18 sums."""
         return e - (e @ self.fit.T) @ self.basis.T
+
+
+def edges(test) -> np.ndarray:
+    """Boolean (n,): the first and last half window of the velocity's
+    Savitzky-Golay differentiator (none for a measured velocity)."""
+    vel = (test.provenance or {}).get("velocity") or {}
+    half = int(vel.get("window_median") or vel.get("window") or 0) // 2 if vel.get("method") == "savgol" else 0
+    out = np.zeros(test.n, dtype=bool)
+    if 0 < half < test.n // 4:
+        out[:half], out[-half:] = True, True
+    return out
 
 
 def _rests_reach(test, still: np.ndarray) -> str:
@@ -118,4 +141,5 @@ def values(model, device, layout, params, weights: list) -> dict:
 
 def how_pinned(device, weights: list) -> dict:
     """{test: how its zero is pinned (PINNED's words)}."""
-    return {t.name: PINNED[p.how] for t, p in zip(device.tests, pins(device, weights)) if p is not None}
+    return {t.name: PINNED[p.how] + ("" if p.drift or p.how == "one" else f" ({PINNED['short']})")
+            for t, p in zip(device.tests, pins(device, weights)) if p is not None}
