@@ -31,6 +31,7 @@ def summarize(rec: Record) -> dict:
         "velocity": velocity_text(vel),
         "columns": rec.provenance.get("columns", {}),
         "units": rec.provenance.get("units", {}),
+        "header_units": rec.provenance.get("header_units", {}),
         "warnings": list(rec.warnings),
     }
 
@@ -61,7 +62,8 @@ def format_summary(s: dict) -> str:
     lines = [
         f"record       {s['name']}  ({s['file']})",
         f"columns      {cols}",
-        f"read units   {units}  (converted to s, mm, kN, mm/s)",
+        f"read units   {units}  ({'the header' + chr(39) + 's, ' if s.get('header_units') else ''}"
+        f"converted to s, mm, kN, mm/s)",
         f"samples      {s['samples']}",
         f"time step    {s['dt_s']:.6g} s  ({1 / s['dt_s']:.4g} Hz)",
         f"duration     {s['duration_s']:.6g} s",
