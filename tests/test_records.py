@@ -20,6 +20,8 @@ from fvd_bridge.units import factor
 
 #: the reader's note on a file that states no unit at all
 NO_UNITS = "no unit information: read as t [s], d [mm], F [kN]"
+#: ... and how to give them, in Python's words
+GIVE_UNITS = "give the units (units={'d': 'm', 'F': 'N'}, e.g.), a sidecar or a header such as 'F [N]'"
 
 
 def read_quiet(path, opts=None):
@@ -47,7 +49,7 @@ def test_csv_canonical(write_csv):
     vel = rec.provenance["velocity"]
     assert vel["method"] == "savgol" and vel["window_chosen"] == "adaptive" and vel["polyorder"] == 3
     assert vel["rule"] == "ICI" and vel["gamma"] > 0 and vel["windows_used"][0] % 2 == 1
-    assert rec.warnings == [f"{path}: {NO_UNITS}; give --units or a sidecar"]
+    assert rec.warnings == [f"{path}: {NO_UNITS}; {GIVE_UNITS}"]
 
 
 def test_csv_measured_velocity(write_csv):
@@ -159,7 +161,7 @@ def test_mat_shared_devices(device_files, index):
     # would take for the damper's
     assert [str(w.message) for w in caught] == rec.warnings and len(rec.warnings) == 1
     assert f"starts with {(1.85, 1.5)[index]:g} s at rest" in rec.warnings[0]
-    assert "% of the peak force)" in rec.warnings[0] and "--window" in rec.warnings[0]
+    assert "% of the peak force)" in rec.warnings[0] and "readers.cut(record, " in rec.warnings[0]  # Python's words
     raw = scipy.io.loadmat(path)["x_F"]
     assert rec.n == raw.shape[0] == (3001, 1501)[index]
     assert rec.dt == pytest.approx(0.01)
@@ -388,7 +390,7 @@ def test_csv_without_unit_information_warns(tmp_path, capsys):
     bare.write_text(text)
     with pytest.warns(RecordWarning, match=re.escape(NO_UNITS)):
         rec = read_record(str(bare))
-    assert rec.warnings == [f"{bare}: {NO_UNITS}; give --units or a sidecar"]
+    assert rec.warnings == [f"{bare}: {NO_UNITS}; {GIVE_UNITS}"]
     assert cli.main(["inspect", str(bare)]) == 0
     out = capsys.readouterr().out
     assert "warnings     1" in out and NO_UNITS in out
@@ -479,4 +481,4 @@ def test_a_force_offset_at_rest_is_flagged(tmp_path):
         assert rec.warnings == ([rec.warnings[0]] if flagged else []), rec.warnings
         if flagged:
             assert "starts with 2.01 s at rest with a force of -20 kN" in rec.warnings[0]
-            assert "(20% of the peak force)" in rec.warnings[0] and "--window 2.01,7.99" in rec.warnings[0]
+            assert "(20% of the peak force)" in rec.warnings[0] and "cut(record, 2.01, 7.99)" in rec.warnings[0]

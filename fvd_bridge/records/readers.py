@@ -195,7 +195,8 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     if not stated:
         notes.append(f"{path}: no unit information: read as " + ", ".join(
             f"{k} [{CANONICAL[k]}]" for k in ("t", "d", "F", "v") if k in raw.data)
-            + f"; give {option('--units')} or a sidecar")
+            + f"; give the units ({option('--units', Given(d='m', F='N'))}, e.g.), a sidecar or a header such "
+            f"as 'F [N]'")
     notes += validate.unit_notes(path, dt, raw.names)
     notes += validate.rest_offset_note(path, t, conv["d"], conv["F"], raw.names)
     prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
