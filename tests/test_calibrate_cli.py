@@ -57,7 +57,13 @@ def test_calibrate_writes_every_output(two_devices, tmp_path):
     par = list(csv.DictReader(open(out / "pareto.csv")))
     assert any(r["non_dominated"] == "1" for r in par)
     summary = json.load(open(out / "summary.json"))
-    assert summary["schema_version"] == 1 and len(summary["runs"]) == 2 * 3 * 2
+    made = [r for r in summary["runs"] if not r["stop"].startswith("wider search")]
+    wider = {r["model"] for r in summary["runs"] if r["stop"].startswith("wider search")}
+    assert summary["schema_version"] == 1 and len(made) == 2 * 3 * 2
+    # law 1 misses these orifice devices far above their noise floor: its search looked wider, and says so
+    assert "1" in wider and "2" not in wider
+    said = yaml.safe_load(open(out / "params" / "dev_a" / "law1.yaml"))["warnings"]
+    assert any("what the record's noise allows" in w for w in said)
     figs = {p.name for p in (out / "figures").iterdir()}
     assert {"of_bars.png", "pareto.png", "dispersion_law9.png", "loops_dev_a_law2.png"} <= figs
     assert not list(tmp_path.glob(".*partial*"))

@@ -274,3 +274,17 @@ def test_bad_input_names_file_and_line(tmp_path, case):
     msg = str(err.value)
     assert msg.startswith(f"{path}: ") and "\n" not in msg, msg
     assert re.search(pattern, msg), msg
+
+
+def test_the_shipped_el_centro_record_reads_by_name(tmp_path, monkeypatch):
+    """The README's frame example names 'el-centro-1940', shipped with the
+    package: 3995 samples at 0.02 s, PGA 0.313 g (its header, from the
+    quakeio copy), read from any folder; a file of that name wins."""
+    from fvd_bridge.records.motions import G_MM_S2, read_motion
+
+    monkeypatch.chdir(tmp_path)
+    m = read_motion("el-centro-1940")
+    assert m.dt == 0.02 and m.accel.size == 3995
+    assert np.max(np.abs(m.accel)) / G_MM_S2 == pytest.approx(0.3129, abs=1e-4)
+    (tmp_path / "el-centro-1940").write_text("0 0.1\n0.01 0.2\n0.02 -0.1\n")
+    assert read_motion("el-centro-1940").dt == 0.01

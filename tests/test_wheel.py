@@ -162,6 +162,7 @@ def test_an_installed_wheel_walks_the_quick_start(tmp_path):
     wheel = next((tmp_path / "dist").glob("fvd_bridge-*.whl"))
     names = zipfile.ZipFile(wheel).namelist()
     assert all(f"fvd_bridge/fmu/{name}" in names for name in FMU_FILES)
+    assert "fvd_bridge/records/data/elcentro_1940_NS.txt" in names  # the README's frame example's record
     assert not [n for n in names if n.startswith(("fmu/", "tests/"))]
 
     python = fresh_venv(tmp_path / "env")

@@ -38,7 +38,8 @@ def add_parser(sub):
                         "and stop (no PARAMS or --record needed)")
     p.add_argument("--json", action="store_true", help="with --periods: one JSON line {\"periods\": [...], ...}")
     p.add_argument("--record", metavar="FILE",
-                   help="ground motion: 2-column text t,a (g unless --units), USGS .smc, GeoNet .V2A, PEER .AT2")
+                   help="ground motion: 2-column text t,a (g unless --units), USGS .smc, GeoNet .V2A, PEER .AT2; "
+                        "or el-centro-1940, the 1940 El Centro NS record shipped with the package")
     p.add_argument("--component", help="V2A component (index or part of its name, e.g. N28W)")
     p.add_argument("--units", help="acceleration unit of a text record (default g; e.g. m/s^2, gal)")
     p.add_argument("--scale-pga", type=float, metavar="G", help="scale the record to this peak ground acceleration [g]")

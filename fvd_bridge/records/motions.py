@@ -448,15 +448,30 @@ FORMATS = {"text": (read_text, None), "smc": (read_smc, "cm/s^2"), "v2a": (read_
 SUFFIXES = {".smc": "smc", ".v2a": "v2a", ".at2": "at2"}
 
 
+#: records shipped with the package (records/data), by the name a user gives
+#: instead of a file: the 1940 El Centro NS record (public domain; source in its header)
+BUILTIN = {"el-centro-1940": "elcentro_1940_NS.txt"}
+
+
+def builtin_motion_path(name: str) -> str | None:
+    """The package's file of the built-in record ``name`` (``BUILTIN``), None for any other name."""
+    file = BUILTIN.get(str(name).lower())
+    return None if file is None else os.path.join(os.path.dirname(__file__), "data", file)
+
+
 def read_motion(path, fmt=None, component=None, units=None, dt=None) -> GroundMotion:
-    """A ground motion from a file; ``fmt`` 'text', 'smc', 'v2a' or 'at2'
-    (default from the suffix: .smc, .V2A, .AT2, otherwise text).
+    """A ground motion from a file, or a record shipped with the package by
+    its name (``BUILTIN``: 'el-centro-1940', where no file of that name
+    exists); ``fmt`` 'text', 'smc', 'v2a' or 'at2' (default from the
+    suffix: .smc, .V2A, .AT2, otherwise text).
 
     ``component`` picks a V2A component (index or part of its name);
     ``units`` (default g) and ``dt`` [s] (1-column files) are for text; the
     other formats give their own units and dt.
     """
     p = os.fspath(path)
+    if not os.path.exists(p) and builtin_motion_path(p):
+        p = builtin_motion_path(p)
     fmt = str(fmt or SUFFIXES.get(Path(p).suffix.lower(), "text")).lower()
     if fmt not in FORMATS:
         raise InputError(f"{p}: unknown format '{fmt}' (known: {', '.join(FORMATS)})")
