@@ -15,6 +15,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+from ..errors import option
 from ..fit.result import Parent
 from .core import Diagnosis, diagnose
 
@@ -65,7 +66,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
     lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), diag.units()))
     while True:
         if max_rungs is not None and len(lad.rungs) > max_rungs:
-            lad.stop = f"after {max_rungs} added effect(s) (--max-rungs)"
+            lad.stop = f"after {max_rungs} added effect(s) ({option('--max-rungs')})"
             break
         if diag.advice is not None:
             lad.stop = diag.verdict()
