@@ -170,7 +170,8 @@ def _next_lines(args, diag, paths: dict) -> list:
     if advice is not None:
         out = shlex.quote(os.path.join(beside, "calibrate"))
         again_out = shlex.quote(os.path.join(beside, f"diagnose_per_test_{safe_name(advice.name)}"))
-        return [" ".join(["fvd-bridge calibrate", *records, f"--laws {diag.spec}", *flags, f"--out {out}"]),
+        zero = ["--force-zero per-test"] if diag.zero is not None else []  # the nuisance its checks were made beside
+        return [" ".join(["fvd-bridge calibrate", *records, f"--laws {diag.spec}", *flags, *zero, f"--out {out}"]),
                 " ".join(["fvd-bridge diagnose", *records, f"--law {diag.spec}", *flags, f"--out {again_out}"])]
     target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
     again_out = shlex.quote(os.path.join(beside, f"diagnose_{safe_name(best.spec)}"))
