@@ -11,10 +11,11 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from ..fit import fit_model, settings_for
-from ..fit.floor import device_floor
+from ..fit.floor import device_floor, device_force_floor
 from ..fit.layout import Layout
 from ..fit.local import wider
 from ..fit.nested import nested_start
+from ..fit.objective import NEAR_FLOOR
 from ..records.device import as_device
 from .news import reporter
 
@@ -80,8 +81,10 @@ def run_task(task: Task, record, cs):
     fit = fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
                     settings=settings, overrides=overrides, per_test=per_test, start=start,
                     on_generation=reporter(task.id), force_zero=cs.fits_zero)
-    if task.run == 0 and not task.wider:  # the floor the runner judges the runs by (campaign.runner)
-        device = as_device(record)
+    device = as_device(record)
+    if task.run == 0 and not task.wider and fit.of > NEAR_FLOOR * device_force_floor(device):
+        # the floor the runner judges the runs by (campaign.runner); within NEAR_FLOOR of the force
+        # noise's floor alone (a lower bound) a fit is near it, and its propagation is not paid for
         layout = Layout(model, tuple(device.test_names), per_test)
         fit = replace(fit, floor=device_floor(model, layout, fit.params, device))
     if not task.wider:

@@ -118,3 +118,10 @@ def device_floor(model, layout, params, device) -> float:
     (``layout``: the fit's Layout; ``params``: its column vector)."""
     floors = [record_floor(model, layout.for_test(params, k)[0], test).floor for k, test in enumerate(device.tests)]
     return float(np.dot(device.weights, floors))
+
+
+def device_force_floor(device) -> float:
+    """The force noise's floor alone (``noise_floor`` of each test's 4th-difference
+    force noise, weighted as the OF is): below ``device_floor``, and a
+    fraction of its cost (no propagation)."""
+    return float(np.dot(device.weights, [noise_floor(force_noise(t.F), t.F) for t in device.tests]))
