@@ -299,4 +299,4 @@ def test_runs_disagree_hint_never_names_the_optimizer_in_use(optimizer):
     runs = [replace(fit("2", ["C", "alpha"], [45.0, 0.3], of, [[0, 900], [0, 1]]), optimizer=optimizer)
             for of in (0.139, 0.447)]
     msg = next(w["message"] for w in checks.fit_warnings(parse_model("2"), runs) if w["code"] == "runs_disagree")
-    assert f"({optimizer})" in msg and ("--optimizer de" in msg) == (optimizer != "de")
+    assert f"({optimizer})" in msg and ("optimizer='de'" in msg) == (optimizer != "de")  # Python's words

@@ -119,7 +119,7 @@ def test_a_built_in_model_loads_without_its_listed_plugins(lab):
 
 def test_a_file_naming_no_plugin_for_a_foreign_effect_says_what_is_missing(lab):
     plant(lab["cal"], [])
-    with pytest.raises(PluginNeeded, match=r"effect 'cubic_spring' is not built in.*--plugin FILE\.py"):
+    with pytest.raises(PluginNeeded, match=r"effect 'cubic_spring' is not built in.*plugins=\['FILE\.py'\]"):  # Python's words
         Calibration.load(str(lab["cal"]))
 
 

@@ -17,12 +17,12 @@ from ..fit.objective import objective
 from ..fit.parameter import FittedParameter
 from ..io.staging import atomic_file, num
 from ..records.device import as_device, tested_range
-from . import schema, tested as tested_mod, text
+from . import per_test as per_test_mod, schema, tested as tested_mod, text
 from .parts import BootstrapIntervals, RecordSource, RunStats, SolverStatus, TestFit
 from .schema import record_provenance
 from .tested import TESTED_MARGIN, data_key
 from .zero import ForceZero
-from .text import REPORTED_CORRELATION, per_test_text
+from .text import REPORTED_CORRELATION
 
 
 @dataclass(frozen=True)
@@ -327,11 +327,11 @@ class Calibration:
         if not self.per_test:
             return self
         if test is None:
-            raise InputError(_per_test_refusal(self))
+            raise InputError(per_test_mod.refusal(self))
         chosen = self.tests[names.index(test)]
         return replace(self, values=self.params_for(test), of=self.of if chosen.of is None else float(chosen.of),
                        record=chosen.record, tests=(chosen,), runs=None,
-                       intervals=_intervals_on(self.intervals, test, names[0], tuple(self.per_test)),
+                       intervals=per_test_mod.intervals_on(self.intervals, test, names[0], tuple(self.per_test)),
                        records=[r for r in self.records if r.name == test])
 
     def where(self) -> str:
@@ -440,7 +440,7 @@ class Calibration:
                    device=device.name,
                    intervals=None if intervals is None else BootstrapIntervals.from_dict(intervals.as_dict()),
                    solver=SolverStatus(fit.optimizer, fit.stop, int(fit.evaluations)),
-                   force_zero=_force_zero(fit, device, intervals),
+                   force_zero=ForceZero.of_fit(fit, device, intervals),
                    records=list(device.tests))
 
     def to_dict(self) -> dict:
@@ -492,32 +492,3 @@ class Calibration:
         """
         return cls(**schema.read(path, catalog, plugins))
 
-
-def _per_test_refusal(cal) -> str:
-    """'cal.yaml: beta was fitted per test (A: 2.1, B: 3.35 kN/mm); name one with --test A or --test B'."""
-    tests = " or ".join(option("--test", t.name) for t in cal.tests)
-    return f"{cal.where()}: {per_test_text(cal)}; name one with {tests}"
-
-
-def _intervals_on(intervals, test: str, first: str, per_test: tuple):
-    """One test's intervals: a parameter fitted per test takes that test's
-    ('C@B' as 'C'; none when not computed); the other tests' columns, the
-    correlation and (on a test but the first) the derived quantities' are left out."""
-    if intervals is None:
-        return None
-    own = {n: e for n, e in intervals.parameters.items() if SEP not in n and (n not in per_test or test == first)}
-    if test != first:
-        own.update({n: intervals.parameters[f"{n}{SEP}{test}"] for n in per_test
-                    if f"{n}{SEP}{test}" in intervals.parameters})
-    return replace(intervals, parameters=own, correlation=None, derived=intervals.derived if test == first else {})
-
-
-def _force_zero(fit, device, intervals) -> ForceZero | None:
-    """The tests' force zero of a fit that fitted it (``FitResult.zero``),
-    with its intervals and how each test's is pinned; None: not fitted."""
-    if not fit.zero:
-        return None
-    from ..fit.api import residual_weights
-    from ..fit.zero import how_pinned
-
-    return ForceZero.of(fit.zero, getattr(intervals, "zero", None), how_pinned(device, residual_weights(device)))

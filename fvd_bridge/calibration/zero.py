@@ -31,6 +31,18 @@ class ForceZero:
     tests: dict = field(default_factory=dict)
 
     @classmethod
+    def of_fit(cls, fit, device, intervals=None) -> "ForceZero | None":
+        """The tests' force zero of a fit that fitted it (``FitResult.zero``),
+        with its intervals (``fit.intervals.Intervals``) and how each test's
+        is pinned; None: not fitted."""
+        if not fit.zero:
+            return None
+        from ..fit.api import residual_weights
+        from ..fit.zero import how_pinned
+
+        return cls.of(fit.zero, getattr(intervals, "zero", None), how_pinned(device, residual_weights(device)))
+
+    @classmethod
     def of(cls, zero: dict, intervals: dict | None = None, pinned: dict | None = None) -> "ForceZero":
         """From a fit's zero {test: (F0, F1)}, the bootstrap's
         (``fit.intervals.Intervals.zero``) and how each test's is pinned."""

@@ -90,7 +90,7 @@ class CampaignSettings:
                 "bound_overrides": [list(o) for o in self.bound_overrides],
                 "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
                 "all_runs": self.all_runs, "start_values": [list(o) for o in self.start_values],
-                "force_zero": self.force_zero,
+                **({"force_zero": self.force_zero} if self.fits_zero else {}),  # (files of before: unchanged)
                 "start": None if self.start is None else {"model": self.start[0],
                                                           "values": dict(zip(self.start[1], self.start[2]))}}
 
