@@ -33,6 +33,9 @@ def report(cal, min_correlation: float = REPORTED_CORRELATION) -> str:
                      f"sigma {cal.runs.of_sigma:.2g}{why}")
     if cal.settings.get("optimizer"):
         lines.append(f"    optimizer:     {cal.settings['optimizer']}, seed {cal.settings.get('seed')}")
+    wider = cal.settings.get("wider_runs", 0)
+    if wider:
+        lines.append(f"    wider search:  {wider} round(s) beside the runs (their OF far above the noise floor)")
     if cal.solver is not None:
         lines.append(f"    search:        {cal.solver.evaluations} evaluations; {cal.solver.stop}")
     lines += [f"    {cal.tested_text()}", "[[Variables]]"]

@@ -27,6 +27,7 @@ from ..io.staging import num, staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
 from . import stats
 from .checks import fit_warnings
+from .tasks import is_wider
 from ..report.page import build_report
 from .executors import Processes, Serial
 
@@ -47,7 +48,8 @@ def summarize(records, results: dict, cs) -> dict:
     law1 = {dev: np.mean([x.of for x in results[(dev, "1")]]) for dev in devices if (dev, "1") in results}
     models = {}
     for spec in cs.specs:
-        per_dev = [results[(dev, spec)] for dev in devices]
+        every = [results[(dev, spec)] for dev in devices]
+        per_dev = [[r for r in runs if not is_wider(r)] for runs in every]  # the runs asked: their statistics
         names, units = per_dev[0][0].names, per_dev[0][0].units
         P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)
         OF = np.array([[r.of for r in runs] for runs in per_dev])          # (dev, run)
@@ -70,9 +72,9 @@ def summarize(records, results: dict, cs) -> dict:
                       for j, (n, u) in enumerate(zip(names, units)) if near_zero[j]],
             "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
             "p_mean": p_mean, "p_sigma": p_sigma, "derived": d_stats, "delta": delta, "delta_n": delta_n, "beta": beta,
-            "of_overall": float(OF.mean()), "runs_made": OF.shape[1],
-            "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, per_dev)},
-            "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, per_dev)},
+            "of_overall": float(OF.mean()), "runs_made": OF.shape[1], "wider_runs": len(every[0]) - OF.shape[1],
+            "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, every)},
+            "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, every)},
             "floor": {dev: runs[0].floor for dev, runs in zip(devices, per_dev)},
         }
     specs = list(cs.specs)
@@ -94,7 +96,8 @@ def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) ->
     best = summary_model["best"][rec.name]
     runs = {"of_mean": summary_model["of_mean"][dev_index], "of_sigma": summary_model["of_sigma"][dev_index],
             "p_mean": summary_model["p_mean"][dev_index], "p_sigma": summary_model["p_sigma"][dev_index]}
-    settings = {**cs.as_dict(), "runs_made": summary_model["runs_made"],
+    wider = summary_model["wider_runs"]
+    settings = {**cs.as_dict(), "runs_made": summary_model["runs_made"], **({"wider_runs": wider} if wider else {}),
                 "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
     cal = Calibration.from_fit(cs.model(spec), best, rec, settings,
                                [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
