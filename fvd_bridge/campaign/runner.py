@@ -278,5 +278,5 @@ def run_intervals(records, results: dict, cs: CampaignSettings, executor=None, p
     finally:
         bar.close()
     return {key: from_estimates(cs.model(key[1]), layout, best.params, estimates, float(np.mean(ofs)), best.bounds,
-                                best.of, best.zero)
+                                best.of, best.zero, floor=results[key][0].floor)
             for key, (layout, best, estimates, ofs) in drawn.items()}

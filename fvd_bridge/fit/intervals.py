@@ -230,19 +230,23 @@ def bootstrap_replicas(model, record, params, per_test=(), replicates: int = REP
 
 
 def from_estimates(model, layout, params, estimates: np.ndarray, noise_of: float, bounds=None,
-                   of: float | None = None, zero: dict | None = None) -> Intervals:
+                   of: float | None = None, zero: dict | None = None, *, floor: float | None = None) -> Intervals:
     """The Intervals of the replicas' estimates (B, n; with the tests' force
     zero, (B, n + 2 n_tests): each test's F0, F1 after the parameters);
     ``noise_of``: the mean OF of ``params`` on them; ``of``: the fit's
-    (``note``); ``zero``: the fitted zero {test: (F0, F1)} (``fitted_zero``)."""
+    (``note``); ``zero``: the fitted zero {test: (F0, F1)} (``fitted_zero``);
+    ``floor``: the records' noise floor the search was judged by
+    (``fit.floor``), which the note then reads the OF against, as the
+    calibration's warnings do (None: ``noise_of``)."""
     params = np.asarray(params, dtype=float)
     estimates = np.asarray(estimates, dtype=float)
     out = summarize(model, layout, params, estimates[:, :params.size], bounds)
     if zero:
         out.zero = zero_intervals(zero, estimates[:, params.size:])
     out.noise_of = noise_of
-    if of is not None and of > MISFIT * out.noise_of:
-        out.note = (f"OF {of:.4g} is {of / out.noise_of:.1f}x what the noise alone gives ({out.noise_of:.4g}): "
+    against = floor or out.noise_of
+    if of is not None and of > MISFIT * against:
+        out.note = (f"OF {of:.4g} is {of / against:.1f}x what the noise alone gives ({against:.4g}): "
                     f"the model misses the record, and these intervals count the noise only, not the misfit "
                     f"({command('diagnose')} shows what is missing)")
     return out
