@@ -25,7 +25,7 @@ from .catalog import catalog
 from .diagnose import diagnose as run_diagnosis
 from .errors import FitWarning, InputError
 from .fit import DEFAULT_OPTIMIZER, settings_for
-from .fit.intervals import REPLICATES
+from .fit.intervals import REPLICATES, replicates
 from .fit.zero import FORCE_ZERO
 from .records.device import Device
 from .records.record import Record
@@ -129,7 +129,7 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
                           bound_overrides=tuple((None, n, lo, hi) for n, (lo, hi) in overrides.items()),
                           per_test=tuple((None, n) for n in per_test), start=extends,
                           start_values=tuple((None, n, float(v)) for n, v in values.items()),
-                          intervals=int(intervals), all_runs=bool(all_runs), force_zero=force_zero)
+                          intervals=replicates(intervals), all_runs=bool(all_runs), force_zero=force_zero)
     if cs.model(m.spec).names != m.names:
         raise InputError(f"model {m.spec}: give it as a spec (with plugins= for effects of your own)")
     cal = calibrate_one(record, cs)

@@ -36,6 +36,7 @@ API_ARGUMENT = {
     "--window": "fvd_bridge.records.readers.cut(record, {t0}, {t1})",
     "--test-weights": "weights=[{v}]",
     "--gap-figure": "path={v!r}",
+    "--intervals": "intervals={v}",
 }
 
 #: each verb and the Python call that does its job (``command``)

@@ -128,3 +128,15 @@ def test_the_command_line_names_its_flag(case, lab, tmp_path, capsys):
     assert cli.main([a.format(**fill) for a in args]) == 2
     err = capsys.readouterr().err.strip()
     assert named in err and "\n" not in err, err
+
+
+def test_one_replicate_is_refused_in_each_callers_words(lab, tmp_path, capsys):
+    """One bootstrap replicate has no spread: fb.calibrate, calibrate and diagnose each refuse it in one line."""
+    lab = lab[0]
+    with pytest.raises(fb.InputError, match=r"^intervals=1: 0 \(none\) or at least 2 replicates$"):
+        fb.calibrate(lab, "2", intervals=1)
+    for verb in (["calibrate", lab.provenance["file"], "--laws", "2"], ["diagnose", lab.provenance["file"], "--law", "2"]):
+        assert cli.main([*verb, "--intervals", "1", "--out", str(tmp_path / verb[0])]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--intervals 1: 0 (none) or at least 2 replicates" in err
+        assert not (tmp_path / verb[0]).exists()

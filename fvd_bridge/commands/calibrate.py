@@ -18,7 +18,7 @@ from ..catalog import catalog as load_catalog
 from ..errors import InputError
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS, settings_for
-from ..fit.intervals import REPLICATES
+from ..fit.intervals import REPLICATES, replicates
 from ..fit.zero import FORCE_ZERO
 from ..io.staging import check_output
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
@@ -199,8 +199,7 @@ def apply_config(args) -> None:
 
 def campaign_settings(args) -> CampaignSettings:
     cat = load_catalog(args.plugin)
-    if args.intervals < 0 or args.intervals == 1:
-        raise InputError(f"--intervals {args.intervals}: 0 (none) or at least 2 replicates")
+    replicates(args.intervals)
     for name in ("runs", "pop", "gens", "stall"):
         value = getattr(args, name)
         if value is not None and value < 1:

@@ -16,6 +16,7 @@ from ..catalog import catalog
 from ..errors import InputError
 from .. import timing
 from ..fit import DEFAULT_OPTIMIZER
+from ..fit.intervals import REPLICATES, replicates
 from ..io.staging import check_output, safe_name, staged_dir
 from ..records.device import Device
 from .calibrate import unique_names
@@ -51,6 +52,9 @@ def add_parser(sub):
     p.add_argument("--out", default=os.path.join("results", "diagnose"), metavar="DIR",
                    help="directory for the figures and the JSON report (default results/diagnose)")
     p.add_argument("--no-figures", action="store_true", help="write no figures")
+    p.add_argument("--intervals", type=int, default=REPLICATES, metavar="N",
+                   help=f"bootstrap replicates of the intervals of each calibration it writes, as calibrate's "
+                        f"(default {REPLICATES}; 0: none, the fastest: a gap model's take most of the time)")
     p.add_argument("--seed", type=int, default=0, help="seed of every fit (default 0)")
     p.add_argument("--pop", type=int, help="DE population per parameter, for a model whose law or effect "
                                            "needs a global search (law 7, the gap; diagnose default 8)")
@@ -68,6 +72,7 @@ def run(args) -> int:
     from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
 
     check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
+    replicates(args.intervals)
     for name in ("pop", "gens", "max_rungs"):
         value = getattr(args, name)
         if value is not None and value < 1:
@@ -189,7 +194,7 @@ def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
     with staged_dir(args.out) as stage:
         for name, (model, fit, zero) in fits.items():  # with intervals; beside the force zero where it was fitted
             recommended(model, fit, record, settings, zero=zero, per_test=diag.per_test,
-                        seed=args.seed).save(os.path.join(stage, name))
+                        seed=args.seed, replicates=args.intervals).save(os.path.join(stage, name))
             written.append(name)
         with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:
             json.dump(report, fh, indent=1)

@@ -74,7 +74,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import command
+from ..errors import InputError, command, option
 from ..records.cycles import force_noise
 from ..records.device import as_device
 from ..records.record import Record
@@ -87,6 +87,13 @@ from . import zero as zero_mod
 
 #: bootstrap replicates of a calibration
 REPLICATES = 20
+
+
+def replicates(n) -> int:
+    """``n`` bootstrap replicates, checked: 0 (none) or at least 2 (one has no spread)."""
+    if int(n) != n or n < 0 or n == 1:
+        raise InputError(f"{option('--intervals', n)}: 0 (none) or at least 2 replicates")
+    return int(n)
 #: share of the bias counted as its own uncertainty: the bootstrap's truth
 #: is the record smoothed, not the device's motion, and on lab-like law-2
 #: records with rests it put the bias at up to twice the true one
