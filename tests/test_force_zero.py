@@ -138,3 +138,21 @@ def test_the_zero_is_eq18s_own_line_on_a_skewed_real_residual(shared_dir, monkey
     least_squares = of(True)
     assert least_squares > fit.of  # the failure it mends
     assert l1 <= least_squares and l1 < fit.of
+
+
+def test_the_next_calibrate_line_fits_the_zero_diagnose_judged_beside():
+    """Where the tests disagree on a parameter, diagnose prints the calibrate
+    command to run next: it carries --force-zero per-test exactly when the
+    diagnosis fitted the zero (its checks were made beside it)."""
+    from types import SimpleNamespace
+
+    from fvd_bridge.commands.diagnose import _next_lines
+
+    args = SimpleNamespace(record=["a.csv", "b.csv"], device="d", plugin=[], out="out/diag",
+                           **{name: None for name in ("columns", "units", "mat_var", "dt", "sg_window", "window",
+                                                      "force_sign")})
+    for zero, carried in ((object(), True), (None, False)):
+        diag = SimpleNamespace(best=None, advice=SimpleNamespace(name="beta"), per_test=(), spec="9", zero=zero)
+        calibrate, again = _next_lines(args, diag, {})
+        assert calibrate.startswith("fvd-bridge calibrate a.csv b.csv --device d --laws 9 --per-test beta")
+        assert ("--force-zero per-test" in calibrate) == carried and "--force-zero" not in again
