@@ -185,11 +185,13 @@ def _replicates(record, F_clean: np.ndarray, clean: Record, sigma_F: float, coun
 
 
 def intervals(model, record, params, per_test=(), bounds=None, replicates: int = REPLICATES, seed=0,
-              progress=None, of: float | None = None, *, force_zero: bool = False) -> Intervals:
+              progress=None, of: float | None = None, *, force_zero: bool = False,
+              floor: float | None = None) -> Intervals:
     """Bootstrap intervals of a calibration: ``params`` (the fit's columns) of
     ``model`` on ``record`` (a Record or a Device); ``bounds`` (n, 2): the
     fit's search bounds (an interval reaching one is not identified);
-    ``of``: the fit's OF, compared with what noise alone gives (``note``).
+    ``of``: the fit's OF, compared with what noise alone gives (``note``:
+    with ``floor``, the records' noise floor; ``from_estimates``).
     ``force_zero``: the tests' force zero fitted beside the model (module
     docstring).  The three steps (``bootstrap_replicas``, ``newton_refits``,
     ``from_estimates``) may run apart: a campaign spreads the refits over
@@ -198,7 +200,7 @@ def intervals(model, record, params, per_test=(), bounds=None, replicates: int =
                                                  force_zero=force_zero)
     estimates, ofs = newton_refits(model, layout, replicas, params, noise, bounds, progress)
     return from_estimates(model, layout, params, estimates, float(np.mean(ofs)), bounds, of,
-                          zero=fitted_zero(model, record, layout, params))
+                          zero=fitted_zero(model, record, layout, params), floor=floor)
 
 
 def fitted_zero(model, record, layout, params) -> dict | None:
