@@ -44,11 +44,12 @@ def _ks_found_or_said(cal) -> bool:
     return abs(ks / KS - 1.0) < 0.05 or any("noise allows" in w for w in cal.warnings)
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("seed", [1, pytest.param(0, marks=pytest.mark.slow), pytest.param(2, marks=pytest.mark.slow)])
 def test_the_true_model_reaches_the_floor_from_these_seeds(tmp_path, seed):
     """On the record whose runs from seed 1 stopped in the rigid-spring basin
-    (OF 0.151, 20x the floor), every seed ends on the true Ks, near the
-    floor, and says where it stands against it."""
+    (OF 0.151, 20x the floor), seed 1 (and, in the slow suite, its
+    neighbours) ends on the true Ks, near the floor, and says where it
+    stands against it."""
     cal = _calibrate(_oil(tmp_path), "2+series_stiffness", seed=seed)
     assert abs(cal.named()["series_stiffness.Ks"] / KS - 1.0) < 0.05
     assert cal.solver.floor is None or cal.of < NEAR_FLOOR * cal.solver.floor
