@@ -285,10 +285,11 @@ class Model:
             if e.opensees is None:
                 return e.no_opensees or f"effect '{e.name}' ({e.source})"
             if e.stage == "series" and form.series is None:
-                return f"law {law.key} behind {e.name}"
+                return f"law {law.key} behind {e.name} (OpenSees carries it as {e.opensees.materials})"
             if series and e.stage != "series" and e.name in inside:
                 beside = [x.name for x in EFFECTS.values() if x.arrangement_of in {c.name for c in series}]
-                return f"{e.name} inside the series spring" + (f" (beside it: {beside[0]})" if beside else "")
+                where = "the pin gap" if "gap" in {c.name for c in series} else "the series spring"
+                return f"{e.name} inside {where}" + (f" (beside it: {beside[0]})" if beside else "")
             if e.opensees.needs_stateless and not form.stateless:
                 return f"{e.name} of law {law.key} (TensionOnly loses its state in compression)"
         return ""

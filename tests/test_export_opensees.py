@@ -226,7 +226,9 @@ def test_scripts_define_the_same_materials(spec, effects):
     ("2+series_stiffness+parallel_stiffness",
      {"series_stiffness__Ks": 150.0, "parallel_stiffness__Kp": 1.0, "parallel_stiffness__F0": 0.0},
      "parallel_stiffness inside"),
-    ("2+gap", {"gap__g": 0.5}, "gap"),
+    ("9+gap", {"gap__g": 0.5}, "law 9 behind gap (OpenSees carries it as the law's series form with "
+                                "ViscousDamper's LGap"),
+    ("2+gap+friction", {"gap__g": 0.5, "friction__Ff": 1.0}, "friction inside the pin gap"),
     ("2+thermal_softening", {"thermal_softening__theta": 0.1}, "thermal_softening"),
     ("2+inertia", {"inertia__m": 50.0}, "inertia"),
     ("6+asymmetry", {"asymmetry__r": 0.1}, "asymmetry of law 6"),
@@ -301,7 +303,8 @@ def test_linear_sdof_free_vibration():
 # ------------------------------------------------------------ the export verb
 @pytest.fixture(scope="module")
 def calibrated(tmp_path_factory):
-    """A rig device (law 2 + seal friction) calibrated with laws 2, 9 and 2+gap: files and record."""
+    """A rig device (law 2 + seal friction) calibrated with laws 1-9, 2+gap, 2+friction and
+    2+thermal_softening: files and record."""
     import subprocess
     import sys
 
@@ -311,7 +314,7 @@ def calibrated(tmp_path_factory):
     out = tmp_path_factory.mktemp("exp")
     path = write_series(str(out / "rec"), [Device(C=45.4, alpha=0.3, friction=3.0, name="dev")], paper(cycles=3),
                         Noise(force=1.0, displacement=0.005), seed=3)[0]
-    res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "1-9,2+gap,2+friction",
+    res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "1-9,2+gap,2+friction,2+thermal_softening",
                           "--runs", "1", "--pop", "8", "--gens", "40", "--out", str(out / "cal"), "--jobs", "1",
                           "--quiet", "--no-figures", "--intervals", "0"], capture_output=True, text=True, env=cli_env())
     assert res.returncode == 0, res.stderr
@@ -365,11 +368,11 @@ def test_export_verb_refuses_what_opensees_cannot_express(calibrated, tmp_path):
     import yaml
 
     params, _ = calibrated
-    data = yaml.safe_load(open(params / "law2+gap.yaml"))
-    data["parameters"]["gap.g"]["value"] = 1.0  # a clear pin gap
-    (tmp_path / "law2+gap.yaml").write_text(yaml.safe_dump(data))
-    out = tmp_path / "gap.tcl"
-    res = _export(str(tmp_path / "law2+gap.yaml"), "-o", str(out))
+    data = yaml.safe_load(open(params / "law2+thermal_softening.yaml"))
+    data["parameters"]["thermal_softening.theta"]["value"] = 0.1  # a clear softening
+    (tmp_path / "law2+thermal_softening.yaml").write_text(yaml.safe_dump(data))
+    out = tmp_path / "soft.tcl"
+    res = _export(str(tmp_path / "law2+thermal_softening.yaml"), "-o", str(out))
     assert res.returncode == 2 and res.stderr.count("\n") == 1 and "fvd-bridge export fmu" in res.stderr
     assert not out.exists()
     res = _export(str(tmp_path / "missing.yaml"))

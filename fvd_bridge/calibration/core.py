@@ -269,7 +269,7 @@ class Calibration:
         from ..export.opensees import OpenSeesCommands, opensees_export
 
         cal = self.for_test(test)
-        export = opensees_export(cal.model, cal.named(), tag, units=units)
+        export = opensees_export(cal.model, cal.named(), tag, units=units, tested=cal.tested)
         return OpenSeesCommands(export, cal.export_lines(export))
 
     def to_fmu(self, path, h_max: float | None = None, test: str | None = None) -> str:

@@ -76,7 +76,7 @@ def run_opensees(args) -> int:
         check_output(args.output, "file", "-o")
         lang = ext[1:]
     cal = Calibration.load(args.params, plugins=args.plugin).for_test(args.test)
-    export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out)
+    export = opensees_export(cal.model, cal.named(), args.tag, units=args.units_out, tested=cal.tested)
     record = None
     if args.check == CALIBRATION_RECORD:
         record = read_as_calibrated(cal.record, args)

@@ -182,7 +182,8 @@ BUILTIN = (
         cause="the connection has clearance (play)",
         cause_hysteretic="the connection has play: no force passes while the pin crosses its clearance",
         size=sizes.gap, reference=(1.0,), fmu=True, global_search=True, stepped=("g",),  # the dead zone: local solves stop short
-        no_opensees="the pin gap (a contact gap in series with the law: no force in the clearance)"),
+        opensees=OpenSeesForm("the law's series form with ViscousDamper's LGap g (laws 1, 2; 7 with beta 1)",
+                              None, accuracy="gap")),
     SERIES_STIFFNESS,
     replace(
         SERIES_STIFFNESS, name="oil_column", arrangement_of="series_stiffness",

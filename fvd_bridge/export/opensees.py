@@ -35,6 +35,8 @@ law / effect            OpenSees materials                                  kind
 series_stiffness        laws 1, 2: ViscousDamper Ks C alpha                 exact   7.9e-5 (2)
                         law 7, beta 1: ViscousDamper K Ks/(K+Ks) C alpha    exact   9.1e-5 [b]
 oil_column              as series_stiffness, seal and accumulator beside    exact   7.9e-5 (2)
+gap                     laws 1, 2, 7 (beta 1): ViscousDamper Ks C alpha     approx  0.0156 (2)
+                        LGap g; without a series spring Ks a stiff contact
 asymmetry               laws 1-5: Parallel(TensionOnly(M),                  exact   9e-17 (2)
                         TensionOnly(Multiplier M -1)) -factors a b [a]
 friction                Damper(ElasticMultiLinear table of Ff tanh(v/v_f))  approx  9e-7 (2)
@@ -65,17 +67,25 @@ increment (BoucWenMaterial.cpp), first order: HYSTERESIS_OF_RATE s, measured
 0.011 s to 0.33 s on the golden motion (10 parameter sets of laws 6 and 9,
 C = 0 among them, x dt 1, 5, 20 ms x amplitude x0.2, 1, 3; worst at small
 decay rates, where all of z lags);
-friction: |F error| <= FRICTION_TABLE_ERROR Ff (effects/opensees_forms.py).
+friction: |F error| <= FRICTION_TABLE_ERROR Ff (effects/opensees_forms.py);
+a pin gap (ViscousDamper's LGap): GAP_OF_RATE g/A + GAP_STEP_RATE s, A the
+half-range of d: the model's pin starts centred in its clearance where
+LGap starts in contact, LGap's force is held at zero from the reversal
+interpolated in a step but contact is found at a step's end (up to one
+step late), and a gap without a series spring gets a contact spring
+(CONTACT_DEFLECTION); measured OF/(g/A) up to 0.11 on sines (laws 1, 2, 7,
+g/A 0.025 to 0.4, springs 150 kN/mm to rigid, s up to 0.025) and 0.0156 on
+the golden motion (g/A 0.04, s 0.0113).
 
 Not expressible (InputError; use the FMU export): law 7 with beta != 1 (a
 power-law spring behind the dashpot); series_stiffness on laws 3-6, 8, 9
 (SeriesMaterial passes no strain rate to its members); friction, the
 accumulator or asymmetry inside the series spring (series_stiffness;
 oil_column holds the seal and accumulator beside it); asymmetry of laws 6-9 (TensionOnly does not commit
-a state under compression); gap (a dead zone in series with the law:
-SeriesMaterial passes no strain rate to the law, and ViscousDamper's LGap,
-which zeroes its force over a travel LGap after each force reversal and
-restarts its Maxwell state, is another model); thermal
+a state under compression); a gap behind laws 3-6, 8, 9 (SeriesMaterial
+passes no strain rate to the law; only ViscousDamper's LGap holds a
+clearance) or with an effect inside it (friction, a parallel spring,
+asymmetry: no force passes the clearance, LGap zeroes its own only); thermal
 softening (no material softens with dissipated energy); inertia (a mass, not
 a material); plugin effects.  Effects at their 'off' values are left out.
 """
@@ -99,6 +109,11 @@ EXACT_OF = 2e-4
 STEP_REF = 0.012
 #: BoucWen (laws 6, 9): OF <= HYSTERESIS_OF_RATE * step ratio (measured: up to 0.33)
 HYSTERESIS_OF_RATE = 0.5
+#: a pin gap as ViscousDamper's LGap: OF <= GAP_OF_RATE g / half-range of d + GAP_STEP_RATE step ratio
+#: (module docstring: Bounds)
+GAP_OF_RATE, GAP_STEP_RATE = 0.15, 1.0
+#: a pin gap's rigid contact deflects this share of the tested stroke under the tested force
+CONTACT_DEFLECTION = 0.001
 #: a ``Viscous`` dashpot with an exponent below this defeats Newton at velocity
 #: reversals (frames/transient.py); ``solving_springs`` puts it behind a spring
 NEWTON_ALPHA = 0.5
@@ -121,8 +136,9 @@ class Export:
     the damper material's ``tag``, ``exact`` (OpenSees solves the model's own
     equations), ``note`` (the approximations made), ``hysteretic`` (BoucWen
     used), ``tabulated`` the largest error of tabulated curves [kN] (0
-    without) and ``global_step`` (a material integrates over the analysis'
-    global time step)."""
+    without), ``global_step`` (a material integrates over the analysis'
+    global time step) and ``clearance`` a pin gap's [mm] (ViscousDamper's
+    LGap; 0 without)."""
 
     model: str
     commands: list
@@ -133,6 +149,7 @@ class Export:
     tabulated: float = 0.0
     global_step: bool = False
     units: dict = field(default_factory=lambda: dict(SYSTEM))
+    clearance: float = 0.0
 
     def to_kN(self, F) -> np.ndarray:
         """The material's force in its units -> kN."""
@@ -144,6 +161,8 @@ class Export:
         s = step_ratio(d)
         of = EXACT_OF * max(1.0, (s / STEP_REF) ** 2)
         of += HYSTERESIS_OF_RATE * s if self.hysteretic else 0.0
+        half = 0.5 * float(np.ptp(d))
+        of += GAP_OF_RATE * self.clearance / half + GAP_STEP_RATE * s if self.clearance and half > 0.0 else 0.0
         std = float(np.std(F))
         return of + (float(self.to_kN(self.tabulated)) / std if std > 0.0 else 0.0)
 
@@ -189,15 +208,17 @@ def _values(model, params: dict) -> dict:
     return p
 
 
-def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
+def opensees_export(model, params: dict, tag: int = 1, units=None, tested: dict | None = None) -> Export:
     """The model's OpenSees materials; the damper is material ``tag``.
 
     ``model``: a Model or its spec ('2+friction'); ``params``: {name: value}
     in the model's units (``Calibration.named()``); ``units``: the OpenSees
     model's FORCE,LENGTH,TIME ('kN,m,s', or a dict {F, d, t}; default kN,
     mm, s): every value is written in them (``units.in_system``, from each
-    parameter's declared unit).  Raises InputError for what OpenSees cannot
-    express (module docstring)."""
+    parameter's declared unit); ``tested``: the tested range {d [mm], F
+    [kN]} (``Calibration.tested``), which a pin gap without a series spring
+    needs (``contact_stiffness``).  Raises InputError for what OpenSees
+    cannot express (module docstring)."""
     model = model if isinstance(model, Model) else parse_model(model)
     system = unit_system(units)
     p = _values(model, params)
@@ -215,15 +236,39 @@ def opensees_export(model, params: dict, tag: int = 1, units=None) -> Export:
         return {q.name: p[n] for q, n in zip(e.parameters, e.names)}
 
     s = _Script(int(tag), in_system(1.0, "mm/s", system))
-    series = [e for e in active if e.stage == "series"]
-    element = form.series(s, law, *own(series[0]).values()) if series else form.build(s, law)
+    series = {e.name: own(e) for e in active if e.stage == "series"}
+    clearance = series.get("gap", {}).get("g", 0.0)
+    if series:
+        spring = [q["Ks"] for q in series.values() if "Ks" in q]
+        Ks = spring[0] if spring else in_system(contact_stiffness(model.spec, tested), "kN/mm", system)
+        if not spring:
+            s.notes.append(f"the pin's contact as a spring Ks {Ks:.6g} {system['F']}/{system['d']} "
+                           f"({100 * CONTACT_DEFLECTION:g}% of the tested stroke under the tested force)")
+        if clearance > 0.0:
+            s.notes.append(f"pin gap {clearance:.4g} {system['d']} as ViscousDamper's LGap (force zero over that "
+                           f"travel after each force reversal, the Maxwell state then restarted)")
+        element = form.series(s, law, Ks, clearance)
+    else:
+        element = form.build(s, law)
     for e in (e for e in active if e.stage == "output"):
         element = e.opensees.build(s, element, own(e))
     tags = [element] + [e.opensees.build(s, own(e)) for e in active if e.stage == "parallel"]
     commands = s.finish(s.parallel(tags))
     return Export(model.spec, commands, s.tag, not s.notes, "; ".join(s.notes) or "exact",
                   hysteretic=form.accuracy == "hysteretic", tabulated=s.tabulated, global_step=s.global_step,
-                  units=system)
+                  units=system, clearance=clearance / in_system(1.0, "mm", system))
+
+
+def contact_stiffness(spec: str, tested: dict | None) -> float:
+    """Ks [kN/mm] of a pin's rigid contact, as the ViscousDamper spring a
+    gap without a series spring needs: it deflects CONTACT_DEFLECTION of the
+    tested stroke d [mm] under the tested force F [kN] (``tested``:
+    ``Calibration.tested``)."""
+    if not tested or not tested.get("d") or not tested.get("F"):
+        raise InputError(f"model {spec}: a pin gap without a series spring needs the tested stroke and force "
+                         f"for its contact spring (opensees_export(..., tested={{'d': mm, 'F': kN}}), as "
+                         f"Calibration.to_opensees passes them)")
+    return float(tested["F"]) / (CONTACT_DEFLECTION * float(tested["d"]))
 
 
 def _newton_defeating(c) -> bool:

@@ -132,10 +132,11 @@ def check(model, params: dict, t, d, v=None, a=None, element: bool = False, subs
     model = model if isinstance(model, Model) else parse_model(model)
     t, d = np.asarray(t, dtype=float), np.asarray(d, dtype=float)
     v = np.gradient(d, t) if v is None else np.asarray(v, dtype=float)
-    export = export or opensees_export(model, params, tag=1)
     a = np.gradient(v, t) if a is None else np.asarray(a, dtype=float)
     record = Record(t, d, np.zeros_like(t), v, a, name="check")
     F_model = model.force(record, np.array([[params[n] for n in model.names]]), substeps)[0]
+    tested = {"d": float(np.max(np.abs(d))), "F": float(np.max(np.abs(F_model)))}  # this history as the tested one
+    export = export or opensees_export(model, params, tag=1, tested=tested)
     # in the export's own units (kN, mm, s unless it was written in others), its force back in kN
     kt, kd = factor("t", export.units["t"]), factor("d", export.units["d"])
     if element:
@@ -157,7 +158,7 @@ def check_on_record(cal, record, export=None, test: str | None = None) -> CheckR
     materials start), so that displacement noise, which the derived velocity
     has smoothed away, reaches neither."""
     params = cal.named(test)
-    export = export or opensees_export(cal.model, params, tag=1)
+    export = export or opensees_export(cal.model, params, tag=1, tested=cal.tested)
     t, v = record.t, record.v
     d = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
     return check(cal.model, params, t, d, v, record.a, export=export)

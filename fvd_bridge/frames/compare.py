@@ -177,7 +177,7 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
                     per_story=per_story, fitted_on=cal.fitted_on, scale=scale)
         commands = None
         try:
-            export = cal.solving(opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM))
+            export = cal.solving(opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM, tested=cal.tested))
             case.exact, case.note, commands = export.exact, export.note, export.commands
         except InputError as exc:
             case.note = str(exc)

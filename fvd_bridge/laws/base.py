@@ -63,11 +63,12 @@ class OpenSeesForm:
     ``s.notes``) from the parameters p {name: value} (kN, mm, s) and returns
     the tag of the law's material (an output effect: ``build(s, tag, p)``,
     wrapping the element ``tag``; a parallel effect: a term added beside it);
-    ``series(s, p, Ks)``: the law behind a series spring Ks [kN/mm] (None:
-    not expressible); ``refuse(p)``: why these parameter values cannot be
+    ``series(s, p, Ks, g)``: the law behind a series spring Ks [kN/mm] and a
+    pin clearance g [mm] (0: none; None: not expressible); ``refuse(p)``: why these parameter values cannot be
     expressed ('' when they can); ``accuracy``: 'exact' (OpenSees solves the
     model's equations), 'hysteretic' (BoucWen's first-order z, bound
-    proportional to the step), 'table' (a tabulated curve); ``stateless``:
+    proportional to the step), 'table' (a tabulated curve), 'gap'
+    (ViscousDamper's LGap, bound proportional to the clearance); ``stateless``:
     the material keeps no history; ``needs_stateless``: an output effect
     that can wrap a stateless law's material only (asymmetry)."""
 

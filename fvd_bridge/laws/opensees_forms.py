@@ -42,10 +42,14 @@ def bouc_wen(s, alpha, K, beta, gamma) -> int:
     return s.mat("BoucWen", alpha, K, 1.0, gamma, beta, 1.0, 0.0, 0.0, 0.0)
 
 
-def maxwell(s, Ks, C, alpha=1.0) -> int:
+def maxwell(s, Ks, C, alpha=1.0, gap=0.0) -> int:
     """A spring Ks [kN/mm] in series with C sign(v)|v|^alpha: ``ViscousDamper``
-    K C alpha, dF/dt = K (v - sign(F)|F/C|^(1/alpha)) (ViscousDamper.cpp)."""
-    return s.mat("ViscousDamper", Ks, C, alpha, global_step=True)
+    K C alpha, dF/dt = K (v - sign(F)|F/C|^(1/alpha)) (ViscousDamper.cpp);
+    behind a pin clearance ``gap`` [mm] (total) its LGap: the force stays
+    zero while the strain travels LGap from each force reversal (the zero
+    crossing, interpolated in the step), then the Maxwell state restarts
+    from zero force: the pin crossing its clearance (effect ``gap``)."""
+    return s.mat("ViscousDamper", Ks, C, alpha, *((gap,) if gap > 0.0 else ()), global_step=True)
 
 
 def _law4(s, p) -> int:
@@ -69,9 +73,9 @@ def _law7_refuse(p) -> str:
 
 
 LAW1 = OpenSeesForm("Viscous C 1", lambda s, p: viscous(s, p["C"]), stateless=True,
-                    series=lambda s, p, Ks: maxwell(s, Ks, p["C"]))
+                    series=lambda s, p, Ks, g=0.0: maxwell(s, Ks, p["C"], 1.0, g))
 LAW2 = OpenSeesForm("Viscous C alpha", lambda s, p: viscous(s, p["C"], p["alpha"]), stateless=True,
-                    series=lambda s, p, Ks: maxwell(s, Ks, p["C"], p["alpha"]))
+                    series=lambda s, p, Ks, g=0.0: maxwell(s, Ks, p["C"], p["alpha"], g))
 LAW3 = OpenSeesForm("Parallel(Elastic K1, Viscous C alpha)",
                     lambda s, p: s.parallel([s.mat("Elastic", p["K1"]), viscous(s, p["C"], p["alpha"])]),
                     stateless=True)
@@ -87,7 +91,7 @@ LAW6 = OpenSeesForm("Parallel(BoucWen alpha K 1 beta beta 1 0 0 0, Viscous C 1)"
 # law 7's own linear spring K adds in series with a series spring Ks: K Ks/(K + Ks)
 LAW7 = OpenSeesForm("ViscousDamper K C alpha (beta = 1 only)",
                     lambda s, p: maxwell(s, p["K"], p["C"], p["alpha"]), refuse=_law7_refuse,
-                    series=lambda s, p, Ks: maxwell(s, p["K"] * Ks / (p["K"] + Ks), p["C"], p["alpha"]))
+                    series=lambda s, p, Ks, g=0.0: maxwell(s, p["K"] * Ks / (p["K"] + Ks), p["C"], p["alpha"], g))
 LAW8 = OpenSeesForm("Parallel(ElasticPP K muN/K, Viscous C 1)", _law8)
 # law 9: dz/dd = 1 - alpha sign(dd) z: Bouc-Wen with alpha = 0, gamma = 0
 LAW9 = OpenSeesForm("Parallel(BoucWen 0 beta 1 0 alpha 1 0 0 0, Viscous C 1)",
