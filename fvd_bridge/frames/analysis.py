@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import openseespy.opensees as ops
 
+from ..records.cycles import loop_energy  # noqa: F401  (sizing imports it from here too)
 from ..records.motions import G_MM_S2
 from .buildings import Building
 from .model import DAMPER_TAGS_FROM, FrameModel, build_frame
@@ -123,14 +124,6 @@ class FrameResult:
                        "completed": self.solver.completed,
                        "failed_at_s": self.solver.failed_at, "message": self.solver.message},
         }
-
-
-def loop_energy(force: np.ndarray, deformation: np.ndarray) -> np.ndarray:
-    """Energy [kN mm = J] of each column of force [kN] over deformation [mm]
-    (samples down axis 0): E = integral F dDelta, by the trapezoidal rule
-    sum (F_k + F_k+1)/2 (Delta_k+1 - Delta_k)."""
-    F, d = np.asarray(force, dtype=float), np.asarray(deformation, dtype=float)
-    return np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(d, axis=0), axis=0)
 
 
 def histories(building: Building, excitation: Excitation, steps: Steps) -> tuple:

@@ -6,12 +6,14 @@ from __future__ import annotations
 from .save import axes, finish
 
 
-def compare_figure(record, models, measured: bool, path: str | None = None, ax=None):
+def compare_figure(record, models, measured: bool, path: str | None = None, ax=None,
+                   measured_label: str = "measured"):
     """F-d loops, F-t and the residuals of each (label, F) in ``models``
-    (best first), over the measured force when ``measured``."""
+    (best first), over the measured force when ``measured`` (labelled
+    ``measured_label``)."""
     fig, ax = axes(ax, 1, 3, figsize=(15, 4.5), layout="constrained")
     if measured:
-        ax[0].plot(record.d, record.F, ".", ms=1.2, color="0.5", label="measured")
+        ax[0].plot(record.d, record.F, ".", ms=1.2, color="0.5", label=measured_label)
         ax[1].plot(record.t, record.F, ".", ms=1.2, color="0.5", label="measured")
     for k, (label, F) in enumerate(models):
         color = f"C{k % 10}"

@@ -333,13 +333,33 @@ def _compare_sections(out: str) -> str:
     parts = []
     for path in sorted(glob.glob(os.path.join(out, "*_compare.json"))):
         rep = read_json(path)
+        measured = rep.get("measured")  # older comparisons: none, and no energy
+        per_cycle = rep.get("cycles") is not None
+        energy_key = "energy_per_cycle_kNmm" if per_cycle else "energy_kNmm"
+
+        def of_measured(m, key):
+            ref = (measured or {}).get(key)
+            return share(m.get(key) / ref, digits=3) if ref and m.get(key) is not None else ""
+
         rows = [[os.path.basename(m["file"]), m["model"], m.get("device") or "", rounded(m.get("of")),
-                 rounded(m.get("of_calibration")), rounded(m.get("peak_force_kN"))] for m in rep.get("models", [])]
+                 rounded(m.get("of_calibration")), rounded(m.get("peak_force_kN")), of_measured(m, "peak_force_kN"),
+                 rounded(m.get(energy_key)), of_measured(m, energy_key)] for m in rep.get("models", [])]
+        if measured:
+            rows.insert(0, ["measured", "", "", "", "", rounded(measured["peak_force_kN"]), "",
+                            rounded(measured.get(energy_key)), ""])
+        energy = ("energy per cycle [kN mm = J]" if per_cycle else "energy, total [kN mm = J]")
+        if per_cycle:
+            how = f"energy per cycle: the integral of F dd over the record / its {rep['cycles']:.3g} displacement cycles"
+        elif any("energy_kNmm" in m for m in rep.get("models", [])):
+            how = "energy: the integral of F dd over the record (d reverses fewer than twice: no cycles to count)"
+        else:
+            how = "no energy (a comparison written before it was computed)"
         png = path[:-len(".json")] + ".png"
         parts += [f"<section class='compare'><h2>calibrated models on {escape(os.path.basename(rep['record']))}</h2>",
-                  table(["file", "model", "device", "OF here", "OF on its calibration", "peak force [kN]"], rows,
-                        "prediction only (no measured force)" if rep.get("prediction_only") else
-                        "best first (OF, eq. 18)"),
+                  table(["file", "model", "device", "OF here", "OF on its calibration", "peak |F| [kN]",
+                         "of measured", energy, "of measured"], rows,
+                        f"prediction only (no measured force); {how}" if rep.get("prediction_only") else
+                        f"the measured force first, then the models best first (OF, eq. 18); {how}"),
                   *([figure(png)] if os.path.isfile(png) else []), "</section>"]
     return "\n".join(parts)
 
