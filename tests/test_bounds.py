@@ -112,6 +112,78 @@ def test_campaign_writes_bounds_from_the_series_scatter(series):
     assert len(digits) >= 3 * 7 and max(digits) <= 6  # every number rounded for people
 
 
+#: calibrate's options for the campaign's settings (SERIES): the same fits, seed for seed
+SERIES_OPTIONS = ("--laws", "2", "--runs", "1", "--seed", "1", "--optimizer", "de", "--pop", "8", "--gens", "30",
+                  "--jobs", "1", "--no-figures", "--intervals", "0", "--quiet")
+
+
+def test_calibrate_of_the_series_writes_the_campaigns_bounds(series, tmp_path):
+    """calibrate on the campaign's records with its settings (the design velocity its acceptance's) writes the
+    campaign's bounds.json and bounds.csv, and frame --bounds reads calibrate's folder as it reads the campaign's."""
+    from fvd_bridge.calibration import Calibration
+    from fvd_bridge.frames.bounds import nominal_ratio
+
+    folder, out, _ = series
+    records = sorted((out / "records").glob("device_*.csv"))
+    cal = tmp_path / "cal"
+    res = run("calibrate", *records, *SERIES_OPTIONS, "--design-velocity", "300", "--out", cal)
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert json.loads((cal / "bounds.json").read_text()) == json.loads((out / "bounds.json").read_text())
+    assert (cal / "bounds.csv").read_text() == (out / "bounds.csv").read_text()
+    assert "Upper and lower bounds at the design velocity V = 300 mm/s" in res.stdout and "bounds.json" in res.stdout
+    mine, theirs = read_bounds(str(cal)), read_bounds(str(out))
+    assert mine.models == theirs.models and mine.motion == theirs.motion and set(mine.models) == {"2"}
+    # the damper a frame brings to the series' nominal force: F_nominal / (C V^alpha) of its device
+    F = _device_forces(cal, 300.0)
+    nominal = mine.factors("2").nominal_force
+    assert nominal == pytest.approx(np.mean(list(F.values())), rel=2e-3)
+    device = Calibration.load(str(cal / "params" / "device_02" / "law2.yaml"))
+    assert nominal_ratio(mine, device) == pytest.approx(nominal / F["device_02"], rel=2e-3)
+
+
+def test_calibrate_of_one_device_says_its_bounds_in_one_line(series, tmp_path):
+    """One device: no scatter (lambda_test = 1), the specification's 0.85 and 1.15 alone, said in one line;
+    a campaign file names acceptance.velocity for the design velocity."""
+    from fvd_bridge.commands.campaign import read_campaign_file
+
+    folder, out, _ = series
+    one = tmp_path / "one"
+    res = run("calibrate", out / "records" / "device_04.csv", *SERIES_OPTIONS, "--out", one)
+    assert res.returncode == 0, res.stderr[-3000:]
+    said = [line for line in res.stdout.splitlines() if "bounds" in line and "wrote" not in line]
+    assert len(said) == 1 and said[0].startswith("bounds.json: one device") and "0.85 and 1.15" in said[0], said
+    force = next(r for r in json.loads((one / "bounds.json").read_text())["models"]["2"]["rows"]
+                 if r["quantity"] == "F(V)")
+    assert (force["test_min"], force["test_max"]) == (1.0, 1.0)
+    assert (force["lambda_min"], force["lambda_max"]) == pytest.approx((0.85, 1.15))
+    assert force["nominal"] == pytest.approx(_device_forces(one, 500.0)["device_04"], rel=2e-3)  # the default V
+    f = read_bounds(str(one)).factors("2")
+    assert (f.lambda_min, f.lambda_max) == pytest.approx((0.85, 1.15))
+    path = tmp_path / "v.yaml"
+    path.write_text(yaml.safe_dump({**SERIES, "design_velocity": 300}))
+    with pytest.raises(InputError, match=r"design_velocity.*acceptance: \{velocity: V\}"):
+        read_campaign_file(str(path))
+
+
+def test_a_model_fitted_per_test_has_no_bounds_and_says_why(tmp_path):
+    """A parameter fitted per test: the force at the design velocity is a test's, so the series has no bounds of
+    that model; bounds.json says why and frame --bounds repeats it (no fit needed: the model is left out first)."""
+    from fvd_bridge import Record
+    from fvd_bridge.campaign import bounds
+    from fvd_bridge.campaign.acceptance import Acceptance
+    from fvd_bridge.campaign.runner import CampaignSettings
+
+    t = np.arange(0, 4, 0.01)
+    rec = Record.from_arrays(t, 20 * np.sin(2 * np.pi * t), 50 * np.cos(2 * np.pi * t))
+    cs = CampaignSettings(specs=("2",), per_test=((None, "alpha"),))
+    b = bounds.compute({"devices": [rec.name], "models": {"2": {}}}, [rec], cs, Acceptance(), BoundSettings())
+    assert b["models"] == {} and "alpha fitted per test" in b["skipped"]["2"]
+    assert "no bounds: alpha fitted per test" in bounds.format_bounds(b)
+    bounds.write(str(tmp_path), b)
+    with pytest.raises(InputError, match="no model with force factors.*alpha fitted per test"):
+        read_bounds(str(tmp_path))
+
+
 def test_a_bad_bounds_key_is_refused_before_any_work(tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text(yaml.safe_dump({**SERIES, "bounds": {"spec": 2}}))

@@ -34,7 +34,9 @@ The measured scatter already holds part of the manufacturing variation,
 so counting lambda_test and lambda_spec both is on the safe side.  A
 parameter whose mean over the devices is near zero (``stats.near_zero``)
 or not positive has no factor (NaN, with the note why); with one device
-lambda_test = 1 (no scatter to measure).  The frame (``frame --bounds``)
+lambda_test = 1 (no scatter to measure).  A model with a parameter fitted
+per test has no bounds (its force at the design velocity is a test's, not
+the device's): bounds.json's ``skipped`` says so.  The frame (``frame --bounds``)
 scales the damper's whole force by the force's factors (OpenSees'
 ``Multiplier``); the parameters' factors are for the record: bounding
 each parameter alone does not bound the force (a larger exponent alpha
@@ -43,7 +45,9 @@ lowers the force below 1 mm/s).
 Files (in the campaign's output): bounds.csv (model, quantity, unit,
 nominal, lambda_test_min/max, lambda_min/max, lower, upper, note) and
 bounds.json (settings, rule, source, the design motion, per model its
-nominal device and rows; what ``frame --bounds`` reads).
+nominal device and rows, the models without bounds and why; what
+``frame --bounds`` reads).  ``campaign`` and ``calibrate`` both write
+them, with ``compute`` and ``write``.
 """
 
 from __future__ import annotations
@@ -164,6 +168,12 @@ def compute(summary: dict, records, cs, acc: Acceptance, settings: BoundSettings
            "statistic": _statistic_text(settings), "velocity": acc.velocity, "amplitude": amplitude, "dt": dt,
            "cycles": acc.cycles, "devices": list(devices), "models": {}}
     for spec, m in summary["models"].items():
+        per_test = cs.per_test_for(spec)
+        if per_test:  # a test's force is not the device's
+            out.setdefault("skipped", {})[spec] = (
+                f"{', '.join(per_test)} fitted per test: the force at the design velocity is each test's, not the "
+                f"device's, so law {spec} has no bounds")
+            continue
         model = cs.model(spec)
         P = np.array([m["best"][dev].params for dev in devices], dtype=float)
         F = design_forces(model, P, motion)
@@ -211,12 +221,14 @@ def format_bounds(bounds: dict) -> str:
                          rounded(r["lambda_min"], digits=3), rounded(r["lambda_max"], digits=3),
                          rounded(r["lower"]), rounded(r["upper"])])
     width = [max(len(str(row[k])) for row in [head, *body]) for k in range(len(head))]
-    for row in [head, None, *body]:
+    for row in [head, None, *body] if body else []:
         if row is None:
             lines.append("-" * (sum(width) + 2 * (len(width) - 1)))
             continue
         lines.append("  ".join(f"{row[k]:<{width[k]}}" if k < 2 else f"{row[k]:>{width[k]}}"
                                for k in range(len(row))).rstrip())
     nominal = ", ".join(f"law {spec}: {m['nominal_device']}" for spec, m in bounds["models"].items())
-    lines.append(f"nominal device (force at the design velocity nearest the series' mean): {nominal}")
+    if nominal:
+        lines.append(f"nominal device (force at the design velocity nearest the series' mean): {nominal}")
+    lines += [f"no bounds: {why}" for why in bounds.get("skipped", {}).values()]
     return "\n".join(lines)

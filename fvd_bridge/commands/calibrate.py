@@ -8,6 +8,8 @@ import sys
 import numpy as np
 import yaml
 
+from ..campaign import bounds as series_bounds
+from ..campaign.acceptance import Acceptance
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..calibration import Calibration
@@ -40,8 +42,16 @@ def add_parser(sub):
     p.add_argument("--test-weights", metavar="W1,W2,..",
                    help="with --device: the tests' weights in the objective (default equal)")
     add_campaign_options(p)
+    add_series_options(p)
     add_record_options(p)
     p.set_defaults(func=run, _defaults={a.dest: a.default for a in p._actions})
+
+
+def add_series_options(p):
+    """calibrate's options of the series' bounds (a campaign file says them in its acceptance block)."""
+    p.add_argument("--design-velocity", type=float, default=Acceptance.velocity, metavar="V",
+                   help=f"design velocity [mm/s] of the series' upper and lower bounds (bounds.json, as a "
+                        f"campaign's acceptance.velocity; default {Acceptance.velocity:g})")
 
 
 def add_campaign_options(p):
@@ -147,6 +157,7 @@ def option_parser() -> argparse.ArgumentParser:
     """calibrate's options (for --config and campaign files), without exiting on a bad value."""
     p = argparse.ArgumentParser(prog="calibrate", add_help=False, exit_on_error=False)
     add_campaign_options(p)
+    add_series_options(p)
     add_record_options(p)
     return p
 
@@ -283,21 +294,50 @@ def unique_names(records):
     return records
 
 
+def design_acceptance(args) -> Acceptance:
+    """The design motion of the series' bounds: --design-velocity, the rest a campaign's defaults."""
+    v = args.design_velocity
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(f"--design-velocity {v:g}: must be > 0 (mm/s)")
+    return Acceptance(velocity=float(v))
+
+
+def bounds_text(bounds: dict, devices: int) -> str:
+    """The series' bounds as campaign prints them (campaign.bounds.format_bounds);
+    with one device, one line saying what bounds.json holds (and one per model without bounds)."""
+    if devices >= 2:
+        return series_bounds.format_bounds(bounds)
+    spec = bounds["settings"]["spec"]
+    lines = [f"bounds.json: one device, so no scatter measured (lambda_test = 1): the factors on the force at "
+             f"{bounds['velocity']:g} mm/s are the specification's {1 - spec:g} and {1 + spec:g} alone "
+             f"(ASCE 7-16 18.2.4.5); calibrate the series' devices together for their scatter"]
+    lines = lines if bounds["models"] else []
+    return "\n" + "\n".join(lines + [f"bounds.json: {why}" for why in bounds.get("skipped", {}).values()])
+
+
 def run(args) -> int:
     apply_config(args)
     check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     cs = campaign_settings(args)
+    acc = design_acceptance(args)
     records = unique_names(read_records(args.records, args))
     records = group_device(records, args)
     tests = f" ({len(records[0].tests)} tests)" if args.device else ""
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)
+    made = {}
+
+    def bounds(stage, summary):  # the series' upper and lower bounds, as a campaign writes them
+        made["bounds"] = series_bounds.compute(summary, records, cs, acc, series_bounds.BoundSettings())
+        series_bounds.write(stage, made["bounds"])
+
     with Processes(cs.jobs) as executor:  # one pool for the fits, the intervals and the figures
         results, intervals = run_calibrations(records, cs, executor, progress=not args.quiet)
         with timing.stage("outputs, figures"):
             summary = write_outputs(args.out, records, results, cs, figures=not args.no_figures,
-                                    intervals=intervals, executor=executor)
+                                    intervals=intervals, executor=executor, extra=bounds)
     print(format_report(summary))
-    print(f"\nwrote {args.out}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json"
-          f"{', figures/' if not args.no_figures else ''})")
+    print(bounds_text(made["bounds"], len(records)))
+    print(f"\nwrote {args.out}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json, bounds.csv, "
+          f"bounds.json{', figures/' if not args.no_figures else ''})")
     return 0

@@ -54,7 +54,8 @@ from .common import read_records
 #: keys only a campaign file has (calibrate's options are the rest)
 CAMPAIGN_KEYS = ("records", "devices", "rig", "models", "acceptance", "outliers", "bounds", "executor", "scheduler")
 #: calibrate options a campaign file does not take: (key, why)
-NOT_IN_FILE = {"laws": "use 'models'", "config": "the campaign file is the config", "quiet": "a command-line flag"}
+NOT_IN_FILE = {"laws": "use 'models'", "config": "the campaign file is the config", "quiet": "a command-line flag",
+               "design_velocity": "use 'acceptance: {velocity: V}'"}
 EXECUTORS = ("local", "dask")
 
 

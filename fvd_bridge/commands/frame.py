@@ -59,11 +59,12 @@ def add_parser(sub):
     p.add_argument("--design-drift", type=float, metavar="RATIO",
                    help="roof drift ratio the dampers are sized at and their damping estimated at, e.g. 0.01 "
                         "(default: the bare frame's peak under the record)")
-    p.add_argument("--bounds", metavar="CAMPAIGN|LMIN,LMAX",
+    p.add_argument("--bounds", metavar="OUT|LMIN,LMAX",
                    help="also run each damper as its upper- and lower-bound device and report the envelope of "
-                        "drift and damper force with the bound that governs each: a campaign's output folder "
-                        "(or its bounds.json: each model's factors on the force at the design velocity, the "
-                        "device first brought to the series' nominal force) or two factors, e.g. 0.85,1.2")
+                        "drift and damper force with the bound that governs each: a campaign's or calibrate's "
+                        "output folder (or its bounds.json: each model's factors on the force at the design "
+                        "velocity, the device first brought to the series' nominal force) or two factors, "
+                        "e.g. 0.85,1.2")
     p.add_argument("--building", default="3-story", choices=BUILDINGS, help="frame (default 3-story)")
     p.add_argument("--laws", help="only these models, e.g. 2,9 or 2+friction (default all given)")
     p.add_argument("--rank-on", metavar="FILE",

@@ -1,8 +1,8 @@
 """``frame --bounds``: each damper as nominal, upper-bound and lower-bound
 device, and the envelope of the frame's response over the three.
 
-The factors (``read_bounds``) come from a campaign's bounds.json
-(``campaign.bounds``: per model lambda_min and lambda_max of the force at
+The factors (``read_bounds``) come from the bounds.json a campaign or
+calibrate writes (``campaign.bounds``: per model lambda_min and lambda_max of the force at
 the design velocity, the series' nominal force there and the design
 motion) or are given as two numbers LMIN,LMAX for every model.  The
 bounds scale the damper's whole force (OpenSees' ``Multiplier``, as
@@ -70,13 +70,17 @@ class Bounds:
     source: str
     models: dict
     motion: dict | None = None
+    skipped: dict | None = None  # {spec: why the series has no bounds of it}
 
     def factors(self, spec: str) -> Factors:
         """The factors of model ``spec``; InputError when the bounds have none."""
         found = self.models.get(spec) or self.models.get("*")
+        if found is None and spec in (self.skipped or {}):
+            raise InputError(f"--bounds {self.source}: {self.skipped[spec]}")
         if found is None:
             raise InputError(f"--bounds {self.source}: no bounds for law {spec} (it has law "
-                             f"{', '.join(self.models)}): give the campaign that calibrated it, or LMIN,LMAX")
+                             f"{', '.join(self.models)}): give the campaign or calibrate folder that calibrated it, "
+                             f"or LMIN,LMAX")
         return found
 
     def as_dict(self) -> dict:
@@ -85,20 +89,21 @@ class Bounds:
 
 
 def read_bounds(text: str) -> Bounds:
-    """``--bounds``: a campaign's output folder, its bounds.json, or 'LMIN,LMAX'
+    """``--bounds``: a campaign's or calibrate's output folder, its bounds.json, or 'LMIN,LMAX'
     (0 < LMIN <= 1 <= LMAX) for every model; InputError naming the option otherwise."""
     path = os.path.join(text, "bounds.json") if os.path.isdir(text) else text
     if os.path.isfile(path):
         return _from_file(text, path)
     if os.path.isdir(text):
-        raise InputError(f"--bounds {text}: no bounds.json in it (a campaign's output folder holds one)")
+        raise InputError(f"--bounds {text}: no bounds.json in it (a campaign's or calibrate's output folder holds one)")
     parts = text.split(",")
     try:
         low, high = (float(p) for p in parts) if len(parts) == 2 else (None, None)
     except ValueError:
         low = high = None
     if low is None:
-        raise InputError(f"--bounds {text}: expected a campaign's output folder, its bounds.json, or LMIN,LMAX "
+        raise InputError(f"--bounds {text}: expected a campaign's or calibrate's output folder, its "
+                         f"bounds.json, or LMIN,LMAX "
                          f"(e.g. 0.85,1.2)")
     if not (np.isfinite(low) and np.isfinite(high) and 0 < low <= 1 <= high):
         raise InputError(f"--bounds {text}: factors LMIN,LMAX need 0 < LMIN <= 1 <= LMAX")
@@ -116,12 +121,14 @@ def _from_file(text: str, path: str) -> Bounds:
                 continue
             models[str(spec)] = Factors(float(row["lambda_min"]), float(row["lambda_max"]), float(row["nominal"]))
         motion = {k: float(data[k]) for k in ("velocity", "amplitude", "dt", "cycles")}
-    except (OSError, ValueError, KeyError, TypeError, StopIteration) as exc:
-        raise InputError(f"--bounds {text}: {path} is not a campaign's bounds.json ({type(exc).__name__}: {exc})") \
-            from None
+        skipped = {str(spec): str(why) for spec, why in (data.get("skipped") or {}).items()}
+    except (OSError, ValueError, KeyError, TypeError, StopIteration, AttributeError) as exc:
+        raise InputError(f"--bounds {text}: {path} is not the bounds.json of a campaign or calibrate "
+                         f"({type(exc).__name__}: {exc})") from None
     if not models:
-        raise InputError(f"--bounds {text}: {path} holds no model with force factors")
-    return Bounds(path, models, motion)
+        why = "; ".join(skipped.values())
+        raise InputError(f"--bounds {text}: {path} holds no model with force factors{f' ({why})' if why else ''}")
+    return Bounds(path, models, motion, skipped)
 
 
 def nominal_ratio(bounds: Bounds, cal) -> float:
