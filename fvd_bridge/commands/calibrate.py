@@ -33,7 +33,9 @@ def add_parser(sub):
                        description="Fit laws or models (LAW+EFFECT...) to every record, one record per device "
                                    "(or every record a test of one device: --device), over several seeded runs; "
                                    "write the calibrated parameter files (the exporters' input), Table A.7, the "
-                                   "robustness index, the Pareto front and figures into --out.")
+                                   "robustness index, the Pareto front, figures and the series' upper and lower "
+                                   "bounds (bounds.json, as campaign writes it: what frame --bounds reads) into "
+                                   "--out.")
     p.add_argument("records", nargs="+", metavar="RECORD",
                    help="CSV or .mat test records, one per device (with --device: the tests of that device)")
     p.add_argument("--device", metavar="NAME",
