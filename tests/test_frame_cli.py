@@ -173,7 +173,13 @@ def test_dampers_too_small_to_matter_are_said_so_with_the_command_that_sizes_the
     cells = re.findall(r"<td>([^<]*)</td>", page)
     digits = [len(re.sub(r"\D", "", c.lstrip("0.-"))) for c in cells if re.fullmatch(r"-?[0-9.]+", c)]
     assert digits and max(digits) <= 6
-    assert "Devices: dev0 (law 2)" in page
+    # the page opens with the answer: the damper, and that it is too small to matter, with the command
+    answer = summary["answer"]
+    assert answer[0] == "Damper: law 2, 1 per story: dev0." and "<b>Damper:</b> law 2, 1 per story: dev0." in page
+    assert page.index("class='answer'") < page.index("<table")
+    damping = next(line for line in answer if line.startswith("Damping:"))
+    assert "too small to matter" in damping and "--target-damping 0.2" in damping
+    assert html.escape(damping.partition(": ")[2]) in page and f"  {damping}" in res.stdout
     assert not re.search(r"\d\.\d{7,}", res.stdout)
     both = frame(law2, "--record", rec, "--target-damping", "0.2", "--scale-force", "2", "--out", str(tmp_path / "b"))
     assert both.returncode == 2 and "--scale-force" in both.stderr and not (tmp_path / "b").exists()

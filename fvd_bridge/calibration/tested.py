@@ -22,24 +22,41 @@ def tested(cal) -> dict:
     return out
 
 
-def beyond_tested(cal, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
+def beyond(cal, motion, margin: float = TESTED_MARGIN) -> list[dict]:
     """What of a motion (a Record, or {d, v[, f]}) goes beyond the tested
-    range: one line each (``Calibration.beyond_tested``)."""
-    if isinstance(motion, dict):
-        name, mine = what_of or "the motion", motion
-    else:
-        name, mine = motion.name, tested_range(motion)
+    range, as data: one {'quantity': 'stroke' | 'velocity' | 'frequency',
+    'value', 'tested' (the tests' peak, or [lowest, highest] Hz), 'unit',
+    'where' (the device or record)} per quantity beyond it (a peak more
+    than ``margin`` above the tests', a frequency outside their band by it)."""
+    mine = motion if isinstance(motion, dict) else tested_range(motion)
     ref, where = tested(cal), cal.device or cal.record.name or "its record"
     out = []
     for key, what, unit in (("d", "stroke", "mm"), ("v", "velocity", "mm/s")):
         if ref.get(key) and mine.get(key) and mine[key] > (1.0 + margin) * ref[key]:
-            out.append(f"{name}: peak {what} {mine[key]:.4g} {unit} is beyond the {ref[key]:.4g} {unit} "
-                       f"the model was calibrated on ({where}): an extrapolation")
+            out.append({"quantity": what, "value": float(mine[key]), "tested": float(ref[key]), "unit": unit,
+                        "where": where})
     f, (lo, hi) = mine.get("f"), ref.get("f") or (None, None)
     if f and lo and not (1.0 - margin) * lo <= f <= (1.0 + margin) * hi:
-        out.append(f"{name}: dominant frequency {f:.3g} Hz is outside the {band(lo, hi)} the model was "
-                   f"calibrated on ({where}): an extrapolation")
+        out.append({"quantity": "frequency", "value": float(f), "tested": [float(lo), float(hi)], "unit": "Hz",
+                    "where": where})
     return out
+
+
+def beyond_text(item: dict, name: str = "the motion") -> str:
+    """One ``beyond`` item as the line ``beyond_tested`` gives."""
+    if item["quantity"] == "frequency":
+        return (f"{name}: dominant frequency {item['value']:.3g} Hz is outside the {band(*item['tested'])} the model "
+                f"was calibrated on ({item['where']}): an extrapolation")
+    unit = item["unit"]
+    return (f"{name}: peak {item['quantity']} {item['value']:.4g} {unit} is beyond the {item['tested']:.4g} {unit} "
+            f"the model was calibrated on ({item['where']}): an extrapolation")
+
+
+def beyond_tested(cal, motion, margin: float = TESTED_MARGIN, what_of: str | None = None) -> list[str]:
+    """What of a motion (a Record, or {d, v[, f]}) goes beyond the tested
+    range: one line each (``Calibration.beyond_tested``; ``beyond``, as text)."""
+    name = (what_of or "the motion") if isinstance(motion, dict) else motion.name
+    return [beyond_text(item, name) for item in beyond(cal, motion, margin)]
 
 
 def tested_text(cal) -> str:

@@ -236,7 +236,7 @@ def run(args) -> int:
                                           settings=settings, log=log.name, bounds=getattr(args, "bounds_read", None))
     finally:
         os.unlink(log.name)
-    print(format_frame_table(cases, summary["series"], summary["verdict_lines"]))
+    print(format_frame_table(cases, summary["series"], summary["verdict_lines"], summary["answer"]))
     print(f"\nwrote {args.out}/ (frame_table.csv, frame_series.csv, frame_summary.json, histories/"
           f"{', figures/' if not args.no_figures else ''})")
     return 0

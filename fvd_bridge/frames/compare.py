@@ -20,6 +20,7 @@ import numpy as np
 
 from .. import timing
 from ..calibration import common_tests, data_key, same_data
+from ..calibration import tested as tested_mod
 from ..report.numbers import rounded, share
 from ..errors import InputError
 from ..records.cycles import reversals
@@ -64,6 +65,9 @@ class Case:
     achieved: float | None = None  # supplemental damping ratio [-] the frame achieved (free-vibration decay)
     bound: str | None = None  # 'nominal', 'upper', 'lower' with frame --bounds (frames.bounds); None without
     bound_lambda: float = 1.0  # the bound's factor on the nominal damper's force [-]
+    # what the dampers went beyond (``_exceeded``), as data: {'quantity', 'value', 'limit', 'unit',
+    # 'against': 'tested' (the calibration's tested range) or 'given' (--stroke-limit, --force-limit), 'where'}
+    beyond: list = field(default_factory=list)
 
     def supplemental_damping(self) -> dict | None:
         """{'target', 'estimated' (energy method), 'achieved' (decay; None:
@@ -123,20 +127,32 @@ def damper_motion(result) -> dict:
 
 
 def _exceeded(case: Case, cal=None) -> list:
+    """The lines of what ``case``'s dampers went beyond (the tested range,
+    the stroke and force limits) and of its solver's stops; the same as
+    data into ``case.beyond`` (the page groups them by kind)."""
     v = case.values()
-    out = []
+    out, beyond = [], []
+    tested = _limits(cal, None, None, case.scale) if cal is not None else {}
+    where = (cal.device or cal.record.name or "its record") if cal is not None else ""
     if (cal is not None and case.result is not None and case.result.damper_deformation is not None
             and case.result.t.size >= 3):
         motion = damper_motion(case.result)
-        out += [line for line in cal.beyond_tested(motion, what_of="the dampers' motion")
-                if "stroke" not in line or case.limits.get("stroke") is None]
+        for item in tested_mod.beyond(cal, motion):
+            if item["quantity"] != "stroke" or case.limits.get("stroke") is None:
+                out.append(tested_mod.beyond_text(item, "the dampers' motion"))
+                beyond.append({"quantity": item["quantity"], "value": item["value"], "limit": item["tested"],
+                               "unit": item["unit"], "against": "tested", "where": item["where"]})
     for key, what in (("stroke", "stroke"), ("force", "force")):
         limit = case.limits.get(key)
         if limit and np.isfinite(v[key]) and v[key] > limit:
             unit = "mm" if key == "stroke" else "kN"
             out.append(f"peak damper {what} {v[key]:.4g} {unit} exceeds {limit:.4g} {unit}")
+            beyond.append({"quantity": what, "value": float(v[key]), "limit": float(limit), "unit": unit,
+                           "against": "tested" if tested.get(key) and np.isclose(limit, tested[key], rtol=1e-9)
+                           else "given", "where": where})
     if case.result is not None and case.result.solver.message:  # a stop, relaxed steps, negative energy
         out.append(case.result.solver.message)
+    case.beyond = beyond
     return out
 
 

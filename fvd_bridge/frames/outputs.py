@@ -18,10 +18,12 @@ import shutil
 import numpy as np
 
 from ..io.staging import num, safe_name, staged_dir, write_csv_rows, write_json
+from ..report.names import common_form, distinct
 from ..report.numbers import rounded, share, with_unit
 from . import bounds as damper_bounds
+from .answer import answer_lines, case_names, grouped_notes
 from .compare import QUANTITIES
-from .verdict import series_spread, verdict_lines
+from .verdict import choice, nominal, series_spread, verdict_lines
 
 
 def write_frame_outputs(out: str, building, motion, cases, figures: bool = True, settings: dict | None = None,
@@ -32,10 +34,16 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
     share kept; 'sizing_command': the command line the verdict gives for
     sizing dampers too small to matter) into the summary; ``log``:
     OpenSees' own messages, kept as opensees.log; ``bounds``: the
-    frames.bounds.Bounds the cases ran with (the envelope: 'bounds')."""
+    frames.bounds.Bounds the cases ran with (the envelope: 'bounds').
+    The summary's 'answer' (``answer.answer_lines``) is what the page opens
+    with and the terminal ends with; 'notes' the cases' notes, one per kind
+    (``answer.grouped_notes``: its text and the labels of the cases it
+    concerns); 'choice' the model the verdict reports (``verdict.choice``)."""
     spread = series_spread(cases)
-    lines = verdict_lines(spread, cases, (settings or {}).get("sizing_command")) + damper_bounds.envelope_lines(cases)
+    resize = (settings or {}).get("sizing_command")
+    lines = verdict_lines(spread, cases, resize) + damper_bounds.envelope_lines(cases)
     text = "; ".join(lines)
+    names = case_names(cases)
     with staged_dir(out) as stage:
         header = ["case", "model", "device", "calibration_of"] + [f"{k} [{u}]" for k, _, u in QUANTITIES] + [
             "opensees", "algorithms", "exceeded", "note"]
@@ -74,10 +82,13 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
                                                                     if c.result else None),
                                                      "supplemental_damping": c.supplemental_damping(),
                                                      "bound": c.bound, "force_factor": c.scale,
-                                                     "design": _design_rows(c)}
+                                                     "design": _design_rows(c), "beyond": c.beyond,
+                                                     "short": names[c.label]}
                                                     for c in cases],
                    "series": spread, "verdict": text, "verdict_lines": lines, "settings": settings or {},
-                   "bounds": damper_bounds.summary(cases, bounds)}
+                   "bounds": damper_bounds.summary(cases, bounds),
+                   "answer": answer_lines(cases, spread, settings, resize), "notes": grouped_notes(cases),
+                   "choice": choice(spread, cases)}
         write_json(os.path.join(stage, "frame_summary.json"), summary)
         if log and os.path.isfile(log):
             shutil.copyfile(log, os.path.join(stage, "opensees.log"))
@@ -116,25 +127,30 @@ def _cell(x: float) -> str:
 
 
 def format_sizing_table(cases) -> str:
-    """The dampers sized for a target damping: per case and story the
+    """The dampers sized for a target damping: per model (its nominal
+    dampers; the bounds' are these times their factor) and story the
     damper's stroke, velocity and force at the design velocity and its
-    factor, then the damping achieved against the target ('' when none was sized)."""
+    factor, then each case's damping achieved against the target ('' when
+    none was sized); cases by their short names (``answer.case_names``)."""
     sized = [c for c in cases if c.design is not None and c.design.target is not None]
     if not sized:
         return ""
+    names = case_names(cases)
     d = sized[0].design
     head = ["case", "story", with_unit("stroke", "mm"), with_unit("design velocity", "mm/s"),
             with_unit("force at it", "kN"), "force factor"]
-    rows = [[c.label, str(k), rounded(s.amplitude), rounded(s.velocity), rounded(s.force * c.scale),
-             rounded(c.scale, digits=3)] for c in sized for k, s in enumerate(c.design.stories, start=1)]
+    rows = [[names[c.label], str(k), rounded(s.amplitude), rounded(s.velocity), rounded(s.force * c.scale),
+             rounded(c.scale, digits=3)] for c in nominal(sized) for k, s in enumerate(c.design.stories, start=1)]
     lines = [f"dampers sized for {share(d.target)} of critical damping in the first mode (T1 {rounded(d.period)} s) "
              f"at roof drift {share(d.roof_drift)} ({rounded(d.roof_amplitude)} mm), energy method (FEMA 274): "
-             "each damper the calibrated device with its force times one factor in every story",
+             "each damper the calibrated device with its force times one factor in every story"
+             + ("; a bound's damper is the nominal one times its factor" if len(nominal(sized)) < len(sized) else ""),
              *_columns(head, rows), ""]
     for c in sized:
         got = "not measured" if c.achieved is None else share(c.achieved, 3)
-        lines.append(f"  {c.label}: supplemental damping target {share(c.design.target)}, energy method "
-                     f"{share(c.design.damping, 3)}, achieved {got} (free-vibration decay)")
+        lines.append(f"  {names[c.label]}: force factor {rounded(c.scale, digits=3)}, supplemental damping target "
+                     f"{share(c.design.target)}, energy method {share(c.design.damping, 3)}, achieved {got} "
+                     f"(free-vibration decay)")
     return "\n".join(lines)
 
 
@@ -149,22 +165,28 @@ def _columns(head: list, rows: list, right_from: int = 1) -> list[str]:
     return [top, "-" * len(top), *[line(r) for r in rows]]
 
 
-def format_frame_table(cases, spread: dict, text: str | list) -> str:
-    """The printed comparison: one line per case (its notes numbered under
-    the table), the series spread, the dampers' sizing, the verdict (a text
-    or its lines)."""
-    notes, rows = [], []
+def format_frame_table(cases, spread: dict, text: str | list, answer: list | None = None) -> str:
+    """The printed comparison: one line per case by its short name
+    (``answer.case_names``; the device named once above), its notes
+    numbered under the table, one per kind (``answer.grouped_notes``), the
+    series spread, the dampers' sizing, the verdict (a text or its lines)
+    and, last, the answer (``answer.answer_lines``: what the page opens with)."""
+    names = case_names(cases)
+    notes = grouped_notes(cases)
+    rows = []
     for c in cases:
         v = c.values()
-        mine = (["FMU co-simulation"] * c.fmu + c.exceeded) if c.result is not None else [f"skipped: {c.note}"]
-        for n in mine:
-            if n not in notes:
-                notes.append(n)
-        rows.append([c.label, rounded(c.of)] + [_cell(v[k]) for k, _, _ in QUANTITIES]
-                    + [" ".join(f"[{notes.index(n) + 1}]" for n in mine)])
+        marks = [f"[{k}]" for k, n in enumerate(notes, start=1) if c.label in n["cases"]]
+        rows.append([names[c.label], rounded(c.of)] + [_cell(v[k]) for k, _, _ in QUANTITIES] + [" ".join(marks)])
     head = ["case", "calibration OF"] + [with_unit(k, u) for k, _, u in QUANTITIES] + ["notes"]
-    lines = _columns(head, rows, right_from=1)
-    lines += [f"  [{k}] {n}" for k, n in enumerate(notes, start=1)]
+    devices = list(dict.fromkeys(c.device for c in cases if c.spec is not None))
+    lines = []
+    if len(devices) == 1:
+        lines.append(f"device: {devices[0]}")
+    elif devices and distinct(devices)[devices[0]] != devices[0]:
+        lines.append(f"devices: {common_form(devices)} (the cases name the part that differs)")
+    lines += _columns(head, rows, right_from=1)
+    lines += [f"  [{k}] {n['text']}" for k, n in enumerate(notes, start=1)]
     if any(len(s["devices"]) > 1 for s in spread.values()):
         lines += ["", "production series: min / mean / max (CoV) over devices"]
         for spec, s in spread.items():
@@ -178,4 +200,6 @@ def format_frame_table(cases, spread: dict, text: str | list) -> str:
     lines += ["", "verdict:" + ("" if len(verdict) > 1 else f" {verdict[0]}")]
     if len(verdict) > 1:
         lines += [f"  - {line}" for line in verdict]
+    if answer:
+        lines += ["", "answer:", *[f"  {line}" for line in answer]]
     return "\n".join(lines)

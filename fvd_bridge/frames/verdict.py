@@ -112,31 +112,53 @@ def verdict_lines(spread: dict, cases=(), resize: str | None = None) -> list[str
     left_out = [f"left out, the analysis did not reach its end: {'; '.join(gone)}"] if gone else []
     if not spread:
         return ["no damper model ran to the end"] + left_out
-    of, where = ranking(spread, cases)
+    pick = choice(spread, cases)
     parts = []
-    if of is None:
-        parts.append(where)
-        shown = min(spread, key=lambda s: (spread[s]["n_params"], s))
+    if pick["best"] is None:
+        parts.append(pick["why"])
     else:
-        best = min(spread, key=lambda s: of[s])
-        ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
-
-        def close(s):
-            return (abs(spread[s]["drift"][1] - ref_drift) <= VERDICT_TOLERANCE * abs(ref_drift)
-                    and abs(spread[s]["force"][1] - ref_force) <= VERDICT_TOLERANCE * abs(ref_force))
-
-        simplest = min((s for s in spread if close(s)), key=lambda s: (spread[s]["n_params"], s))
+        where = pick["where"]
         there = f" {where}" if where else ""
-        parts.append(f"best-fitting model{there}: law {best} (mean OF{' there' if where else ''} "
-                     f"{rounded(of[best])}); simplest within {VERDICT_TOLERANCE:.0%} on peak drift and damper "
-                     f"force: law {simplest}")
-        shown = best
+        parts.append(f"best-fitting model{there}: law {pick['best']} (mean OF{' there' if where else ''} "
+                     f"{rounded(pick['of'])}); simplest within {VERDICT_TOLERANCE:.0%} on peak drift and damper "
+                     f"force: law {pick['simplest']}")
+    shown = pick["shown"]
     parts.append(_response(spread, shown, cases))
     parts.append(_model_choice(spread))
     damping = _damping(spread, cases, resize)
     if damping:
         parts.append(damping)
     return parts + left_out
+
+
+def choice(spread: dict, cases=()) -> dict:
+    """The verdict's choice of model, as data: {'shown': the model whose
+    response it gives (the best-fitting, else the simplest), 'best' (None:
+    not ranked), 'simplest' (fewest parameters, then lowest law number,
+    within VERDICT_TOLERANCE of the best's mean peak drift and damper force;
+    of all models where not ranked), 'of' (the best's mean OF), 'where'
+    (what it is computed on, '' for their own OFs), 'why' (not ranked: why)};
+    {} without a model that ran."""
+    cases = nominal(cases)
+    if not spread:
+        return {}
+    of, where = ranking(spread, cases)
+
+    def simplest(specs):
+        return min(specs, key=lambda s: (spread[s]["n_params"], s))
+
+    if of is None:
+        shown = simplest(spread)
+        return {"shown": shown, "best": None, "simplest": shown, "of": None, "where": "", "why": where}
+    best = min(spread, key=lambda s: of[s])
+    ref_drift, ref_force = spread[best]["drift"][1], spread[best]["force"][1]
+
+    def close(s):
+        return (abs(spread[s]["drift"][1] - ref_drift) <= VERDICT_TOLERANCE * abs(ref_drift)
+                and abs(spread[s]["force"][1] - ref_force) <= VERDICT_TOLERANCE * abs(ref_force))
+
+    return {"shown": best, "best": best, "simplest": simplest([s for s in spread if close(s)]), "of": of[best],
+            "where": where, "why": ""}
 
 
 def _mean_text(stats: tuple, unit: str) -> str:

@@ -1,12 +1,18 @@
 """The frame analysis' section of OUT/report.html, from OUT/frame_summary.json.
 
-It leads with the verdict (one line per point), then, where the dampers
-were sized, the design per story and the damping achieved against the
-target, the response table (one line per case, numbers through
-``numbers.rounded``, units in the headers, the notes numbered under it),
-the series' spread where a model has several devices, and the figures,
-each with a caption saying what to look at.  A section with nothing to
-show is left out; a wide table scrolls inside its own box.
+It opens with the answer (``frames.answer``, a few lines: the damper per
+story, the peak drift and damper force with the bound that governs each,
+the damping achieved, whether the dampers stayed inside what was tested),
+then, where the dampers were sized, the dampers per story and the damping
+achieved against the target, the response table (one line per case,
+numbers through ``numbers.rounded``, units in the headers, the notes
+numbered under it, one per kind with the cases it concerns), the series'
+spread where a model has several devices, the verdict point by point,
+and the figures, each with a caption saying what to look at.  A section
+with nothing to show is left out.  No table is wider than the page: the
+cases are named by columns (model, the part of a long device name that
+differs, the bound) whose text wraps, and the numbers stay on one line.
+An older summary (no 'answer') opens with its verdict as before.
 """
 
 from __future__ import annotations
@@ -15,6 +21,7 @@ import os
 from html import escape
 
 from .html import table
+from .names import common_form, distinct
 from .parts import image, read_json
 from .numbers import rounded, share, with_unit
 
@@ -38,6 +45,18 @@ CAPTIONS = {
 }
 
 SCROLL = "<div style='overflow-x:auto;max-width:100%'>{}</div>"
+
+#: the bounds as the tables name them
+BOUND_NAMES = {"nominal": "nominal", "upper": "upper bound", "lower": "lower bound"}
+
+#: numbers and the bounds' names stay on one line; headers wrap, and so do the cases' names (the model
+#: and device columns, class l1 or l2), a long name anywhere if it must, so that no table is wider than the page
+STYLE = ("#frame td{white-space:nowrap}#frame th{white-space:normal}"
+         "#frame table.l1 td:nth-child(-n+1),#frame table.l2 td:nth-child(-n+2)"
+         "{white-space:normal;overflow-wrap:anywhere}#frame td.note{white-space:normal}"
+         "#frame p.answer{line-height:1.5}")
+#: a model's name keeps a line of its own up to this many characters wide (longer, it wraps)
+NAME_CHARS = 32
 
 
 def frame_devices(out: str) -> str:
@@ -79,56 +98,137 @@ def _notes_of(case: dict) -> list[str]:
     return notes
 
 
-def _response_table(summary: dict) -> str:
-    """One line per case; its notes numbered under the table."""
-    per_story = (summary.get("settings") or {}).get("dampers_per_story", 1)
-    rows, notes = [], []
-    for case in summary.get("cases", []):
-        q = _quantities(case, per_story)
-        marks = []
+def _label_columns(cases: list) -> tuple[list, object, int]:
+    """The columns naming a case, a function giving a case's cells, and how
+    many of them wrap (the model's and the device's, not the bound's): the
+    model; the device where the cases hold several (the part of its name
+    that differs, ``names.distinct``); the damper (nominal, upper or lower
+    bound) where the run has bounds."""
+    devices = distinct(c["device"] for c in cases if c.get("model") and c.get("device"))
+    several = len(devices) > 1
+    bounds = any(c.get("bound") for c in cases)
+    head = ["model"] + (["device"] if several else []) + (["damper"] if bounds else [])
+
+    def cells(case: dict) -> list:
+        if not case.get("model"):
+            return [case["label"]] + [""] * (len(head) - 1)
+        return ([f"law {case['model']}"] + ([devices.get(case.get("device"), case.get("device") or "")] if several
+                                            else []) + ([BOUND_NAMES.get(case.get("bound"), "")] if bounds else []))
+    return head, cells, 1 + several
+
+
+def _devices_said(cases: list) -> str:
+    """'device ARTS-...-lab-B' or 'devices ARTS-...-…-lab-B (the table names the part that differs)'."""
+    devices = list(dict.fromkeys(c["device"] for c in cases if c.get("model") and c.get("device")))
+    if len(devices) == 1:
+        return f"device {devices[0]}"
+    if devices and distinct(devices)[devices[0]] != devices[0]:
+        return f"devices {common_form(devices)} (the table names the part that differs)"
+    return ""
+
+
+def _case_notes(summary: dict) -> tuple[list, dict]:
+    """The notes under the response table and {label: their numbers}: the
+    summary's notes, one per kind (``frames.answer.grouped_notes``); an older
+    summary's, one per distinct text."""
+    cases = summary.get("cases", [])
+    if summary.get("notes") is not None:
+        notes = [n["text"] for n in summary["notes"]]
+        marks = {c["label"]: [k for k, n in enumerate(summary["notes"], start=1) if c["label"] in n["cases"]]
+                 for c in cases}
+        return notes, marks
+    notes, marks = [], {}
+    for case in cases:
         for note in _notes_of(case):
             if note not in notes:
                 notes.append(note)
-            marks.append(f"[{notes.index(note) + 1}]")
-        rows.append([case["label"], rounded(case.get("calibration_of"))]
-                    + [rounded(q.get(k)) for k, _, _ in COLUMNS] + [" ".join(marks)])
-    header = ["case", "OF"] + [with_unit(name, unit) for _, name, unit in COLUMNS] + ["notes"]
+            marks.setdefault(case["label"], []).append(notes.index(note) + 1)
+    return notes, marks
+
+
+def _table(head: list, rows: list, caption: str, labels: int) -> str:
+    """``html.table`` with its first ``labels`` columns (the cases' names)
+    allowed to wrap, the first as wide as its longest name up to NAME_CHARS
+    (a squeezed table wraps its numbers' headers before a model's name)."""
+    if not labels:
+        return SCROLL.format(table(head, rows, caption))
+    wide = min(NAME_CHARS, max(len(str(r[0])) for r in rows)) if rows else 0
+    style = f"<style>#frame table.w{wide} td:first-child{{min-width:{wide}ch}}</style>" if wide else ""
+    return style + SCROLL.format(table(head, rows, caption, css=f"l{labels} w{wide}"))
+
+
+def _response_table(summary: dict) -> str:
+    """One line per case; its notes numbered under the table, one per kind."""
+    per_story = (summary.get("settings") or {}).get("dampers_per_story", 1)
+    cases = summary.get("cases", [])
+    head, cells, wrap = _label_columns(cases)
+    notes, marks = _case_notes(summary)
+    rows = []
+    for case in cases:
+        q = _quantities(case, per_story)
+        rows.append(cells(case) + [rounded(case.get("calibration_of"))] + [rounded(q.get(k)) for k, _, _ in COLUMNS]
+                    + [" ".join(f"[{k}]" for k in marks.get(case["label"], []))])
+    header = head + ["OF"] + [with_unit(name, unit) for _, name, unit in COLUMNS] + ["notes"]
+    devices = _devices_said(cases)
     caption = (f"{summary.get('building', '')} under {summary.get('motion', '')} (PGA {rounded(summary.get('pga_g'))}"
-               f" g): peak interstory drift ratio, residual drift ratio, peak absolute floor acceleration, damper "
-               f"force and stroke (per damper), the largest over the stories; energy all dampers dissipated; OF: "
-               f"the model's calibration OF")
-    out = SCROLL.format(table(header, rows, caption))
+               f" g){', ' + devices if devices else ''}: peak interstory drift ratio, residual drift ratio, peak "
+               f"absolute floor acceleration, damper force and stroke (per damper), the largest over the stories; "
+               f"energy all dampers dissipated; OF: the model's calibration OF")
+    out = _table(header, rows, caption, wrap)
     if notes:
         out += "<ol class='notes'>" + "".join(f"<li>{escape(n)}</li>" for n in notes) + "</ol>"
     return out
 
 
+def _span(values, digits: int | None = None) -> str:
+    """'2561' or '2550-2570': the values, rounded, as one number or a range."""
+    values = [v for v in values if v is not None]
+    if not values:
+        return "-"
+    low, high = rounded(min(values), digits=digits), rounded(max(values), digits=digits)
+    return low if low == high else f"{low}-{high}"
+
+
 def _sizing_tables(summary: dict) -> str:
-    """Where the dampers were sized: each model's dampers per story, and the damping achieved against the target."""
-    sized = [c for c in summary.get("cases", []) if (c.get("supplemental_damping") or {}).get("target") is not None]
+    """Where the dampers were sized: each story's damper (per model, its
+    force at the design velocity: nominal, and the bounds' range), and each
+    case's force factor and damping achieved against the target."""
+    cases = summary.get("cases", [])
+    sized = [c for c in cases if (c.get("supplemental_damping") or {}).get("target") is not None]
     if not sized:
         return ""
     first = sized[0]["supplemental_damping"]
-    rows = [[c["label"], share(c["supplemental_damping"]["target"]),
-             share(c["supplemental_damping"]["estimated"], digits=3), share(c["supplemental_damping"]["achieved"], digits=3),
-             rounded(c["supplemental_damping"]["factor_per_damper"], digits=3)] for c in sized]
-    parts = [f"<h3>dampers sized for the first mode</h3><p>Each damper is the calibrated device with its force times "
-             f"one factor in every story, sized by the energy method (FEMA 274 / FEMA 356) at roof drift "
-             f"{share(first['roof_drift'])}; the damping achieved is measured by the free-vibration decay of the "
-             f"frame with these dampers (elastic members), less the bare frame's.</p>",
-             SCROLL.format(table(["case", "target", "energy method", "achieved (decay)", "force factor per damper"],
-                                 rows, "supplemental damping ratio of the first mode"))]
-    story_rows = []
-    for c in sized:
-        for k, s in enumerate(c.get("design") or [], start=1):
-            story_rows.append([c["label"], k, rounded(s["stroke_mm"]), rounded(s["velocity_mm_s"]),
-                               rounded(s["force_kN"]), rounded(c["supplemental_damping"]["factor_per_damper"],
-                                                                digits=3)])
-    if story_rows:
-        parts.append(SCROLL.format(table(
-            ["case", "story", with_unit("stroke amplitude", "mm"), with_unit("design velocity", "mm/s"),
-             with_unit("force at the design velocity", "kN"), "force factor"], story_rows,
-            "each story's damper in the design cycle of the first mode (per damper)")))
+    head, cells, wrap = _label_columns(sized)
+    rows = [cells(c) + [rounded(c["supplemental_damping"]["factor_per_damper"], digits=3),
+                        share(c["supplemental_damping"]["estimated"], digits=3),
+                        share(c["supplemental_damping"]["achieved"], digits=3)] for c in sized]
+    damping = _table(head + ["force factor per damper", "energy method", "achieved (decay)"], rows,
+                     f"supplemental damping ratio of the first mode for the {share(first['target'])} target", wrap)
+    parts = ["<h3>dampers per story</h3>"]
+    designed = [c for c in sized if c.get("design")]
+    if designed:
+        models = list(dict.fromkeys(c["model"] for c in designed))
+        bounds = any(c.get("bound") in ("upper", "lower") for c in designed)
+        story_rows = []
+        for k in range(len(designed[0]["design"])):
+            row = [k + 1, _span([c["design"][k]["stroke_mm"] for c in designed]),
+                   _span([c["design"][k]["velocity_mm_s"] for c in designed])]
+            for m in models:
+                mine = [c for c in designed if c["model"] == m]
+                own = [c["design"][k]["force_kN"] for c in mine if c.get("bound") in (None, "nominal")]
+                other = [c["design"][k]["force_kN"] for c in mine if c.get("bound") in ("upper", "lower")]
+                row.append(_span(own) + (f" ({_span(other)})" if other else ""))
+            story_rows.append(row)
+        force = "nominal (lower-upper bound)" if bounds else "per damper"
+        parts.append(_table(["story", with_unit("stroke amplitude", "mm"), with_unit("design velocity", "mm/s")]
+                            + [f"law {m}: {with_unit('force at it', 'kN')}" for m in models], story_rows,
+                            f"each story's damper in the design cycle of the first mode: force at the design "
+                            f"velocity per damper, {force}", 0))
+    parts += [damping,
+              f"<p>Each damper is the calibrated device with its force times one factor in every story, sized by "
+              f"the energy method (FEMA 274 / FEMA 356) at roof drift {share(first['roof_drift'])}; the damping "
+              f"achieved is measured by the free-vibration decay of the frame with these dampers (elastic "
+              f"members), less the bare frame's.</p>"]
     return "\n".join(parts)
 
 
@@ -163,16 +263,29 @@ def _dampers_line(out: str, summary: dict) -> str:
     return f"<p>Devices: {devices}; {escape(how)}</p>"
 
 
+def _answer(summary: dict) -> str:
+    """The answer the section opens with (the summary's 'answer', one line
+    each, the words before a line's first colon set in bold)."""
+    lines = []
+    for line in summary.get("answer") or []:
+        head, sep, rest = line.partition(": ")
+        lines.append(f"<b>{escape(head)}:</b> {escape(rest)}" if sep and len(head) <= 40 else escape(line))
+    return f"<p class='answer'>{'<br>'.join(lines)}</p>" if lines else ""
+
+
 def frame_section(out: str) -> str:
     """The frame analysis' section of the page ('' without frame_summary.json)."""
     summary = read_json(os.path.join(out, "frame_summary.json"))
     if summary is None:
         return ""
     lines = summary.get("verdict_lines") or [summary.get("verdict", "")]
+    verdict = "<ul class='verdict'>" + "".join(f"<li>{escape(line)}</li>" for line in lines if line) + "</ul>"
     figures = [(os.path.join(out, "figures", name), caption) for name, caption in CAPTIONS.items()
                if os.path.isfile(os.path.join(out, "figures", name))]
-    parts = ["<section id='frame'><style>#frame td,#frame th{white-space:nowrap}</style><h2>frame analysis</h2>",
-             _dampers_line(out, summary), "<ul class='verdict'>" + "".join(f"<li>{escape(line)}</li>" for line in lines if line) + "</ul>",
+    answer = _answer(summary)
+    top = [answer] if answer else [_dampers_line(out, summary), verdict]  # an older summary: its verdict first
+    bottom = ["<h3>the verdict, point by point</h3>", verdict] if answer else []
+    parts = [f"<section id='frame'><style>{STYLE}</style><h2>frame analysis</h2>", *top,
              _sizing_tables(summary), "<h3>peak response</h3>", _response_table(summary), _series_table(summary),
-             *[image(path, caption) for path, caption in figures], "</section>"]
+             *bottom, *[image(path, caption) for path, caption in figures], "</section>"]
     return "\n".join(p for p in parts if p)
