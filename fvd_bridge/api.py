@@ -138,7 +138,8 @@ def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEF
     return cal
 
 
-def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=(), plugins=(), progress=None):
+def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=(), plugins=(), progress=None,
+             target: str | None = None):
     """Fit ``model`` to ``records`` (one Record, or the tests of one device),
     find where it fails and refit it with each physical effect it lacks.
 
@@ -161,6 +162,10 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=
         Plugin files with effects of your own (candidates too).
     progress : callable, optional
         ``progress(message)`` receives one line per fit.
+    target : str, optional
+        Where the model must go: 'opensees', 'fmu', 'sap2000' or 'etabs';
+        only what exports there is suggested (``.left_out``: the best
+        candidate it leaves out).  None: anywhere.
 
     Returns
     -------
@@ -170,4 +175,4 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=
         (the refit as a Calibration) and ``.ladder()``.
     """
     return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
-                         catalog=catalog(plugins), per_test=tuple(per_test))
+                         catalog=catalog(plugins), per_test=tuple(per_test), target=target)

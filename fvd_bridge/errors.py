@@ -16,6 +16,7 @@ API_ARGUMENT = {
     "--optimizer": "optimizer={v!r}",
     "--per-test": "per_test=[{v!r}]",
     "--test": "test={v!r}",
+    "--target": "target={v!r}",
     "--runs": "runs={v}",
     "--dt": "dt={v}",
     "--sg-window": "sg_window={v}",

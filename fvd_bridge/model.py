@@ -19,6 +19,21 @@ from .effects.catalog import EFFECTS
 from .effects.compose import composed_force, inside_connection
 from .errors import InputError
 from .laws import Law
+from .laws.opensees_forms import NEWTON_ALPHA
+
+#: where a model can go: {target: its name in messages}
+EXPORT_TARGETS = {"opensees": "OpenSees", "fmu": "FMU", "sap2000": "SAP2000", "etabs": "ETABS"}
+#: the file ``fvd-bridge export TARGET`` writes in the commands printed next
+EXPORT_FILES = {"opensees": "damper.py", "fmu": "damper.fmu", "sap2000": "damper.s2k", "etabs": "damper.e2k"}
+
+
+def export_step(exports: dict, path: str, target: str | None = None) -> str:
+    """The export to run next of a calibration file ``path`` whose model
+    exports as ``exports`` says (``Model.exports``): to ``target``, else
+    to OpenSees where it reaches it, else to an FMU ('' when it cannot go
+    there)."""
+    target = target or ("opensees" if not exports["opensees"] else "fmu")
+    return "" if exports[target] else f"fvd-bridge export {target} {path} -o {EXPORT_FILES[target]}"
 
 
 def _placement_conflict(effects) -> str:
@@ -281,12 +296,18 @@ class Model:
         active = self.active_effects(params)
         inside = inside_connection(Model(law, tuple(active)))
         series = [e for e in active if e.stage == "series"]
+        two = bool(series) and form.series is None  # the connection and the law as two materials in series
+        if two and form.exponent and params is not None and float(params[form.exponent]) < NEWTON_ALPHA:
+            return (f"law {law.key} with {form.exponent} = {float(params[form.exponent]):.3g} behind {series[0].name} "
+                    f"(the law goes behind it as a second material, and its Viscous dashpot with an exponent below "
+                    f"{NEWTON_ALPHA:g} defeats Newton at the node between them)")
         for e in active:
             if e.opensees is None:
                 return e.no_opensees or f"effect '{e.name}' ({e.source})"
-            if e.stage == "series" and form.series is None:
-                return f"law {law.key} behind {e.name} (OpenSees carries it as {e.opensees.materials})"
-            if series and e.stage != "series" and e.name in inside:
+            if two and e.stage != "series" and e.name not in inside:
+                return (f"{e.name} beside the connection (law {law.key} goes behind it as a second material, "
+                        f"which holds the effects inside the connection only)")
+            if series and not two and e.stage != "series" and e.name in inside:
                 beside = [x.name for x in EFFECTS.values() if x.arrangement_of in {c.name for c in series}]
                 where = "the pin gap" if "gap" in {c.name for c in series} else "the series spring"
                 return f"{e.name} inside {where}" + (f" (beside it: {beside[0]})" if beside else "")
@@ -302,6 +323,28 @@ class Model:
         return (f"effect '{missing[0].name}' ({missing[0].source}) cannot go into the FMU (no C step form)"
                 if missing else "")
 
+    def csi_refusal(self, params: dict | None = None) -> str:
+        """Why no CSI (SAP2000, ETABS) damper link expresses this model ('' when one does).
+
+        A link is the law's ``csi`` type (a spring in series with the
+        dashpot), so a series spring is the only effect it takes.
+
+        Parameters
+        ----------
+        params : dict, optional
+            {name: value}, as for ``opensees_refusal``.
+        """
+        law, form = self.law, self.law.opensees
+        if not law.csi:
+            return f"law {law.key} ({law.name}): no CSI damper link (laws 1, 2, 7 with beta 1, 10 only)"
+        if params is not None and form is not None and form.refuse:
+            reason = form.refuse({n: float(params[n]) for n in law.names})
+            if reason:
+                return reason
+        other = [e.name for e in self.active_effects(params) if not (e.stage == "series" and e.slots == ("Ks",))]
+        return (f"effect '{other[0]}' (a CSI {law.csi} link is a spring in series with the dashpot, nothing else)"
+                if other else "")
+
     def exports(self, params: dict | None = None) -> dict:
         """Where the model exports.
 
@@ -313,6 +356,7 @@ class Model:
         Returns
         -------
         dict
-            {target: why not ('' when it exports)} for 'opensees' and 'fmu'.
+            {target: why not ('' when it exports)} for each of EXPORT_TARGETS.
         """
-        return {"opensees": self.opensees_refusal(params), "fmu": self.fmu_refusal()}
+        csi = self.csi_refusal(params)
+        return {"opensees": self.opensees_refusal(params), "fmu": self.fmu_refusal(), "sap2000": csi, "etabs": csi}

@@ -220,14 +220,13 @@ def test_scripts_define_the_same_materials(spec, effects):
 
 @pytest.mark.parametrize("spec,effects,words", [
     ("7", {"beta": 0.5}, "law 7 with beta = 0.5"),
-    ("3+series_stiffness", {"series_stiffness__Ks": 150.0}, "law 3 behind series_stiffness"),
+    ("3+series_stiffness", {"series_stiffness__Ks": 150.0}, "law 3 with alpha = 0.3 behind series_stiffness"),
     ("2+series_stiffness+friction", {"series_stiffness__Ks": 150.0, "friction__Ff": 1.0},
      "friction inside the series spring (beside it: oil_column)"),
     ("2+series_stiffness+parallel_stiffness",
      {"series_stiffness__Ks": 150.0, "parallel_stiffness__Kp": 1.0, "parallel_stiffness__F0": 0.0},
      "parallel_stiffness inside"),
-    ("9+gap", {"gap__g": 0.5}, "law 9 behind gap (OpenSees carries it as the law's series form with "
-                                "ViscousDamper's LGap"),
+    ("9+oil_column+friction", {"oil_column__Ks": 150.0, "friction__Ff": 1.0}, "friction beside the connection"),
     ("2+gap+friction", {"gap__g": 0.5, "friction__Ff": 1.0}, "friction inside the pin gap"),
     ("2+thermal_softening", {"thermal_softening__theta": 0.1}, "thermal_softening"),
     ("2+inertia", {"inertia__m": 50.0}, "inertia"),

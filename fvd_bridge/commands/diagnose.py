@@ -18,6 +18,7 @@ from .. import timing
 from ..fit import DEFAULT_OPTIMIZER
 from ..fit.intervals import REPLICATES, replicates
 from ..io.staging import check_output, safe_name, staged_dir
+from ..model import EXPORT_TARGETS, export_step
 from ..records.device import Device
 from .calibrate import unique_names
 from .common import READING, add_record_options, read_records
@@ -43,6 +44,10 @@ def add_parser(sub):
                    help="with --device: fit this parameter per test (the rest shared), the base and every "
                         "candidate, as calibrate --per-test does, e.g. --per-test beta (repeatable). Without it, "
                         "diagnose checks whether one parameter differs between the tests and says which")
+    p.add_argument("--target", choices=tuple(EXPORT_TARGETS), metavar="TARGET",
+                   help="where the model must go: opensees, fmu, sap2000 or etabs (default: anywhere). Only "
+                        "what exports there is suggested; the best model it leaves out is named with its gain; "
+                        "the next step is that target's export")
     p.add_argument("--ladder", action="store_true",
                    help="add the best effect, refit, repeat while it helps beyond noise; print the ladder")
     p.add_argument("--max-rungs", type=int, metavar="N", help="with --ladder: add at most N effects")
@@ -97,10 +102,12 @@ def run(args) -> int:
     lad = None
     with timing.stage("ladder" if args.ladder else "diagnose"):
         if args.ladder:
-            lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat, per_test=per_test)
+            lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat, per_test=per_test,
+                        target=args.target)
             diag = lad.final
         else:
-            diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat, per_test=per_test)
+            diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat, per_test=per_test,
+                            target=args.target)
     report = diag.as_dict()
     report["settings"] = {"seed": args.seed, "optimizer": DEFAULT_OPTIMIZER, **asdict(settings),
                           **({"per_test": list(per_test)} if per_test else {})}
@@ -158,9 +165,10 @@ def _hand_over(report: dict, paths: dict) -> None:
 def _next_lines(args, diag, paths: dict) -> list:
     """Commands that run as printed: where the tests disagree on a parameter
     (``Diagnosis.advice``), calibrate and diagnose again with it per test;
-    else export the best candidate's calibration file (to OpenSees where it
-    exports there, else to an FMU), and diagnose it further on the same
-    record read the same way (with the same --per-test)."""
+    else export the best candidate's calibration file (to --target, else
+    to OpenSees where it exports there, else to an FMU), and diagnose it
+    further on the same record read the same way (with the same --per-test
+    and --target)."""
     best = diag.best
     advice = diag.advice
     if advice is None and (best is None or best.spec not in paths):
@@ -178,10 +186,10 @@ def _next_lines(args, diag, paths: dict) -> list:
         zero = ["--force-zero per-test"] if diag.zero is not None else []  # the nuisance its checks were made beside
         return [" ".join(["fvd-bridge calibrate", *records, f"--laws {diag.spec}", *flags, *zero, f"--out {out}"]),
                 " ".join(["fvd-bridge diagnose", *records, f"--law {diag.spec}", *flags, f"--out {again_out}"])]
-    target, output = ("opensees", "damper.py") if not best.exports["opensees"] else ("fmu", "damper.fmu")
     again_out = shlex.quote(os.path.join(beside, f"diagnose_{safe_name(best.spec)}"))
-    again = ["fvd-bridge diagnose", *records, f"--law {best.spec}", *flags, f"--out {again_out}"]
-    return [f"fvd-bridge export {target} {shlex.quote(paths[best.spec])} -o {output}", " ".join(again)]
+    target = [f"--target {args.target}"] if args.target else []
+    again = ["fvd-bridge diagnose", *records, f"--law {best.spec}", *flags, *target, f"--out {again_out}"]
+    return [export_step(best.exports, shlex.quote(paths[best.spec]), args.target), " ".join(again)]
 
 
 def _write(args, record, diag, lad, report, fits: dict) -> list[str]:

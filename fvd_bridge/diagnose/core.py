@@ -32,12 +32,13 @@ import numpy as np
 
 from ..catalog import catalog as default_catalog
 from .. import timing
-from ..errors import InputError
+from ..errors import InputError, option
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..fit.layout import Layout
 from ..fit.objective import NEAR_FLOOR
 from ..fit.intervals import REPLICATES, intervals as bootstrap
 from ..fit.result import Parent
+from ..model import EXPORT_TARGETS
 from ..records.device import as_device
 from . import where as where_mod
 from . import agree, zero as zero_mod
@@ -117,6 +118,7 @@ class Diagnosis:
     agreement: agree.Agreement | None = None  # do the tests agree with one parameter set (several tests)
     zero: zero_mod.Zero | None = None  # the tests' force zero, when an offset-like effect needed it (not exported)
     inputs: DiagnosisInputs | None = field(default=None, repr=False)  # what it was run on: ladder() and accept()
+    target: str | None = None  # where the model must go (EXPORT_TARGETS; None: anywhere)
     #: the ladder's climb (``ladder.py`` sets it on import: the ladder sits above the diagnosis)
     _climb = None
 
@@ -193,7 +195,8 @@ class Diagnosis:
             Each rung's model, OF and gain, and each rung's diagnosis.
         """
         i = self.inputs
-        return self._climb(i.record, self.model, i.seed, i.settings, max_rungs, progress, i.catalog, self.per_test)
+        return self._climb(i.record, self.model, i.seed, i.settings, max_rungs, progress, i.catalog, self.per_test,
+                           target=self.target)
 
     @property
     def spec(self) -> str:
@@ -216,9 +219,28 @@ class Diagnosis:
         return self.judge.at_floor(self.of)
 
     @property
-    def suggestions(self) -> list[Candidate]:
-        """Candidates that help beyond noise, best first."""
+    def credited(self) -> list[Candidate]:
+        """Candidates that help beyond noise, best first, wherever they export."""
         return [c for c in self.candidates if c.significant]
+
+    @property
+    def suggestions(self) -> list[Candidate]:
+        """Candidates that help beyond noise and reach the ``target``, best first."""
+        return [c for c in self.credited if self.reaches(c)]
+
+    def reaches(self, candidate: Candidate) -> bool:
+        """Whether a candidate's model exports to the ``target`` (any: True)."""
+        return self.target is None or not candidate.exports[self.target]
+
+    @property
+    def left_out(self) -> Candidate | None:
+        """The best credited candidate, when the ``target`` leaves it out (None: it reaches the target)."""
+        c = self.credited
+        return c[0] if c and not self.reaches(c[0]) else None
+
+    def target_refusal(self) -> str:
+        """Why the diagnosed model itself does not reach the ``target`` ('' when it does or there is none)."""
+        return self.model.exports(self.params())[self.target] if self.target else ""
 
     @property
     def advice(self) -> agree.PerTest | None:
@@ -277,6 +299,9 @@ class Diagnosis:
             "on_bound": [list(x) for x in self.on_bound()],
             "where": self.where.as_dict(),
             "all_candidates": [c.as_dict() for c in self.candidates],
+            "target": self.target,
+            "left_out": None if self.left_out is None else {"spec": self.left_out.spec, "of": self.left_out.of,
+                                                            "why": self.left_out.exports[self.target]},
             "wall_s": self.wall_s,
         }
 
@@ -295,6 +320,10 @@ class Diagnosis:
         if self.advice is not None:
             return self.agreement.verdict()
         b = self.best
+        if b is None and self.left_out is not None:
+            c, name = self.left_out, EXPORT_TARGETS[self.target]
+            return (f"{c.explanation} (OF {self.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower), but {c.spec} does "
+                    f"not reach {name}: {c.exports[self.target]}; no effect that reaches {name} helps beyond noise")
         if b is None and self.zero is not None and any(not x.significant for x in self.zero.effects):
             z = self.zero
             return (f"no candidate effect helps beyond noise (OF {self.of:.4g}, {self.of / self.floor:.1f}x the "
@@ -337,7 +366,7 @@ def recommended(model, fit, record, settings: dict, *, zero: bool, per_test=(), 
 
 
 def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,
-             progress=None, parent=True, catalog=None, per_test=(), floors=None) -> Diagnosis:
+             progress=None, parent=True, catalog=None, per_test=(), floors=None, target=None) -> Diagnosis:
     """Fit ``model`` (a Model, or a spec resolved by ``catalog``, default the
     built-in one) to ``record``, or converge ``base_fit`` further (DE from it),
     analyse the residual, and refit with every effect of the catalog not in
@@ -348,8 +377,11 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     (spec, OF) is taken as given, None skips it.  ``progress(message)`` receives
     one line per fit.  ``per_test``: parameters fitted per test (a Device).
     ``floors``: per test, its noise floor (``floor.record_floor``) when an
-    earlier diagnosis of the same record computed it."""
+    earlier diagnosis of the same record computed it.  ``target``: suggest
+    only what exports there (``EXPORT_TARGETS``; None: anywhere)."""
     t0 = time.perf_counter()
+    if target is not None and target not in EXPORT_TARGETS:
+        raise InputError(f"{option('--target', target)}: expected one of {', '.join(EXPORT_TARGETS)}")
     settings = settings or diagnose_settings()
     catalog = catalog or default_catalog()
     if isinstance(model, str):
@@ -402,7 +434,7 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
     diag = Diagnosis(device.name, model, base_fit, F_model, noise.sigma_F, judge,
                      where_mod.analyse(focus, F_model), noise=noise, base_history=history,
                      tests=[TestOF(*t) for t in zip(device.test_names, test_of)] if len(device.tests) > 1 else [],
-                     focus=focus, per_test=per_test)
+                     focus=focus, per_test=per_test, target=target)
     if candidates and len(device.tests) > 1:  # before the effects: do the tests agree?
         say("do the tests agree? each law parameter freed per test, refitted from the base:")
         with timing.stage("  per-test check"):

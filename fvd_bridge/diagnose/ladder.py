@@ -54,14 +54,14 @@ class Ladder:
 
 
 def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = None, progress=None,
-          catalog=None, per_test=()) -> Ladder:
+          catalog=None, per_test=(), target=None) -> Ladder:
     """Run the ladder from ``model`` (a Model, or a spec resolved by ``catalog``;
-    ``per_test``: parameters fitted per test); returns every rung and each
-    rung's diagnosis."""
+    ``per_test``: parameters fitted per test; ``target``: climb only on what
+    exports there); returns every rung and each rung's diagnosis."""
     t0 = time.perf_counter()
     lad = Ladder()
     diag = diagnose(record, model, seed, settings, progress=progress, parent=None, catalog=catalog,
-                    per_test=per_test)
+                    per_test=per_test, target=target)
     lad.diagnoses.append(diag)
     lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), diag.units()))
     while True:
@@ -73,7 +73,8 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
             break
         best = diag.best
         if best is None:
-            lad.stop = ("at the noise floor: nothing left to explain" if diag.at_floor
+            lad.stop = (diag.verdict() if diag.left_out is not None
+                        else "at the noise floor: nothing left to explain" if diag.at_floor
                         else "no effect helps beyond noise" if diag.candidates
                         else "every effect is already in the model")
             break
@@ -85,7 +86,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
         diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not last,
                         progress=progress, parent=Parent(prev.spec, prev.of), catalog=catalog, per_test=per_test,
-                        floors=prev.inputs.floors)
+                        floors=prev.inputs.floors, target=target)
         lad.diagnoses.append(diag)
         lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
                               diag.units(), best.explanation, best.effect))

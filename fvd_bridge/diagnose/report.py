@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..errors import command, repeated, words
 from ..fit import mean_abs_noise
+from ..model import EXPORT_TARGETS
 from .agree import MOST
 from .where import summary_lines
 
@@ -17,12 +18,14 @@ def _params(fit) -> str:
 
 
 def _targets(exports: dict) -> str:
-    """'OpenSees, FMU' or 'FMU (OpenSees has no material for ...)'."""
-    names = {"opensees": "OpenSees", "fmu": "FMU"}
-    ok = [names[t] for t, why in exports.items() if not why]
-    no = [f"{names[t]} has no material for {why}" if t == "opensees" else f"no {names[t]}: {why}"
-          for t, why in exports.items() if why]
-    return ", ".join(ok) + (f" ({'; '.join(no)})" if no else "") if ok else "none (" + "; ".join(no) + ")"
+    """'OpenSees, FMU, SAP2000, ETABS' or 'OpenSees, FMU (SAP2000, ETABS: effect ...)'."""
+    ok = [EXPORT_TARGETS[t] for t, why in exports.items() if not why]
+    why_not = {}  # one reason may keep several targets out
+    for t, why in exports.items():
+        if why:
+            why_not.setdefault(why, []).append(EXPORT_TARGETS[t])
+    no = [f"{', '.join(names)}: {why}" for why, names in why_not.items()]
+    return ", ".join(ok) + (f" (not {'; '.join(no)})" if no else "") if ok else "none (" + "; ".join(no) + ")"
 
 
 def format_diagnosis(diag, record_label: str | None = None, next_lines: list | None = None) -> str:
@@ -78,6 +81,9 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
         lines.append("")
         lines += diag.zero.lines()
     lines.append("")
+    if diag.target_refusal():
+        lines.append(f"note: {diag.spec} itself does not reach {EXPORT_TARGETS[diag.target]}: "
+                     f"{diag.target_refusal()}")
     if diag.advice is not None:
         lines.append(f"suggestion: {diag.verdict()}")
         again = _again(record_label, diag.spec, diag.record, (*diag.per_test, diag.advice.name))
@@ -91,9 +97,20 @@ def format_diagnosis(diag, record_label: str | None = None, next_lines: list | N
             lines.append(f"{lead} {c.explanation} (OF {diag.of:.4g} -> {c.of:.4g}, {c.improvement:.0%} lower"
                          f"{diag.held_out_scope})")
             lines.append(f"{'':<12} exports to: {_targets(c.exports)}")
+        lines += _left_out(diag)
         for line in next_lines or [_again(record_label, diag.best.spec)]:
             lines.append(f"next: {line}")
     return "\n".join(lines)
+
+
+def _left_out(diag) -> list[str]:
+    """What the target leaves out: the best credited candidate, when it
+    does not reach the target, with what it would add."""
+    c = diag.left_out
+    if c is None:
+        return []
+    return [f"{'':<12} left out: {c.spec} (OF {c.of:.4g}, {c.improvement:.0%} below the base) would add "
+            f"{c.effect} but does not reach {EXPORT_TARGETS[diag.target]}: {c.exports[diag.target]}"]
 
 
 def _again(label: str | None, spec: str, device: str | None = None, per_test=()) -> str:

@@ -100,6 +100,7 @@ from ..catalog import parse_model
 from ..effects.compose import ordered
 from ..errors import InputError, command
 from ..model import Model
+from ..laws.opensees_forms import NEWTON_ALPHA
 from ..opensees_commands import NOT_IN_TCL, Tag, apply, define, listed  # noqa: F401 (re-exported)
 from ..opensees_commands import to_script as commands_script
 from ..units import SYSTEM, factor, in_system, unit_system
@@ -114,9 +115,6 @@ HYSTERESIS_OF_RATE = 0.5
 GAP_OF_RATE, GAP_STEP_RATE = 0.15, 1.0
 #: a pin gap's rigid contact deflects this share of the tested stroke under the tested force
 CONTACT_DEFLECTION = 0.001
-#: a ``Viscous`` dashpot with an exponent below this defeats Newton at velocity
-#: reversals (frames/transient.py); ``solving_springs`` puts it behind a spring
-NEWTON_ALPHA = 0.5
 #: the solving spring deflects this share of the tested stroke under the
 #: dashpot's force at the tested velocity
 SOLVING_DEFLECTION = 0.005
@@ -137,8 +135,11 @@ class Export:
     equations), ``note`` (the approximations made), ``hysteretic`` (BoucWen
     used), ``tabulated`` the largest error of tabulated curves [kN] (0
     without), ``global_step`` (a material integrates over the analysis'
-    global time step) and ``clearance`` a pin gap's [mm] (ViscousDamper's
-    LGap; 0 without)."""
+    global time step), ``clearance`` a pin gap's [mm] (0 without) and
+    ``connection`` the offset from ``tag`` of the connection's material
+    when the damper is two materials in series (0: one material): element
+    node_i -> internal node (tag + connection), internal node -> node_j
+    (tag)."""
 
     model: str
     commands: list
@@ -150,6 +151,7 @@ class Export:
     global_step: bool = False
     units: dict = field(default_factory=lambda: dict(SYSTEM))
     clearance: float = 0.0
+    connection: int = 0
 
     def to_kN(self, F) -> np.ndarray:
         """The material's force in its units -> kN."""
@@ -238,12 +240,9 @@ def opensees_export(model, params: dict, tag: int = 1, units=None, tested: dict 
     s = _Script(int(tag), in_system(1.0, "mm/s", system))
     series = {e.name: own(e) for e in active if e.stage == "series"}
     clearance = series.get("gap", {}).get("g", 0.0)
-    if series:
-        spring = [q["Ks"] for q in series.values() if "Ks" in q]
-        Ks = spring[0] if spring else in_system(contact_stiffness(model.spec, tested), "kN/mm", system)
-        if not spring:
-            s.notes.append(f"the pin's contact as a spring Ks {Ks:.6g} {system['F']}/{system['d']} "
-                           f"({100 * CONTACT_DEFLECTION:g}% of the tested stroke under the tested force)")
+    Ks = _connection_spring(s, model.spec, series, tested, system) if series else None
+    connection = 0
+    if series and form.series is not None:  # one material: ViscousDamper (its LGap for the clearance)
         if clearance > 0.0:
             s.notes.append(f"pin gap {clearance:.4g} {system['d']} as ViscousDamper's LGap (force zero over that "
                            f"travel after each force reversal, the Maxwell state then restarted)")
@@ -253,10 +252,40 @@ def opensees_export(model, params: dict, tag: int = 1, units=None, tested: dict 
     for e in (e for e in active if e.stage == "output"):
         element = e.opensees.build(s, element, own(e))
     tags = [element] + [e.opensees.build(s, own(e)) for e in active if e.stage == "parallel"]
-    commands = s.finish(s.parallel(tags))
+    top = s.parallel(tags)
+    if series and form.series is None:  # two materials in series: the connection, then the law with its effects
+        connection = _dead_zone(s, Ks, 0.5 * clearance).offset
+        s.notes.append("two materials in series through an internal node: the connection (material tag + "
+                       f"{connection}: {'the pin gap ' if clearance else ''}dead zone and spring) and the law "
+                       "(material tag)")
+    commands = s.finish(top)
     return Export(model.spec, commands, s.tag, not s.notes, "; ".join(s.notes) or "exact",
                   hysteretic=form.accuracy == "hysteretic", tabulated=s.tabulated, global_step=s.global_step,
-                  units=system, clearance=clearance / in_system(1.0, "mm", system))
+                  units=system, clearance=clearance / in_system(1.0, "mm", system), connection=connection)
+
+
+def _connection_spring(s, spec: str, series: dict, tested: dict | None, system: dict) -> float:
+    """The connection's spring in the export's units: the series spring's Ks
+    (series_stiffness or oil_column), else the pin's contact
+    (``contact_stiffness``, said in the notes)."""
+    spring = [q["Ks"] for q in series.values() if "Ks" in q]
+    if spring:
+        return spring[0]
+    Ks = in_system(contact_stiffness(spec, tested), "kN/mm", system)
+    s.notes.append(f"the pin's contact as a spring Ks {Ks:.6g} {system['F']}/{system['d']} "
+                   f"({100 * CONTACT_DEFLECTION:g}% of the tested stroke under the tested force)")
+    return Ks
+
+
+def _dead_zone(s, Ks: float, half: float) -> Tag:
+    """Ks dz(w, h) (effects/connection.py ``dead_zone``): ``Elastic`` Ks for
+    h = 0, else an ``ElasticMultiLinear`` through (-h, 0), (h, 0) and one
+    more point each side at slope Ks (extrapolated beyond its last points)."""
+    if half <= 0.0:
+        return s.mat("Elastic", Ks)
+    reach = half + max(half, 1.0)
+    return s.mat("ElasticMultiLinear", "-strain", -reach, -half, half, reach,
+                 "-stress", -Ks * (reach - half), 0.0, 0.0, Ks * (reach - half))
 
 
 def contact_stiffness(spec: str, tested: dict | None) -> float:
@@ -383,6 +412,14 @@ def to_script(commands, lang: str = "py", comments=()) -> str:
             f"# units: force {ex.units['F']}, length {ex.units['d']}, time {ex.units['t']} (the OpenSees model's "
             f"must be these: {units})",
             f"# mapping: {ex.note}", *[f"# {line}" for line in comments]]
+    if ex.connection:
+        head += [f"# TWO MATERIALS IN SERIES: more than one material; place them in two elements through an internal "
+                 f"node m without mass: node_i -> m material tag + {ex.connection} (the connection), m -> node_j "
+                 f"material tag (the law), e.g. in 1-D:",
+                 f"#   ops.node(m, 0.0); ops.element('zeroLength', e1, node_i, m, '-mat', tag + {ex.connection}, "
+                 f"'-dir', 1); ops.element('zeroLength', e2, m, node_j, '-mat', tag, '-dir', 1)",
+                 "# solving: TRBDF2 follows the contact better than average acceleration (Newmark 0.5 0.25 rings "
+                 "when the gap closes); fvd-bridge export --check runs it so"]
     if any(_newton_defeating(c) for c in ex.commands):
         head.append("# solving: a power-law dashpot with alpha < 0.5 has an unbounded tangent at velocity "
                     "reversals, where Newton diverges; put it behind a stiff spring (ViscousDamper Ks C alpha) or "

@@ -73,19 +73,28 @@ def drive_material(commands, tag: int, t, d, v) -> np.ndarray:
     return F
 
 
-def drive_element(commands, tag: int, t, d, integrator: tuple = ("Newmark", 0.5, 0.25)) -> np.ndarray:
+def drive_element(commands, tag: int, t, d, integrator: tuple = ("Newmark", 0.5, 0.25),
+                  connection: int = 0) -> np.ndarray:
     """Force [kN] of a zeroLength element of material ``tag`` whose free end
     follows d [mm] at times t [s] (uniform step) in a transient analysis
     (Penalty constraints): the damper as it runs in a structure, its velocity
     from the integrator (average acceleration by default; ("TRBDF2",) measured
-    the same for ViscousDamper and 20% worse for Viscous)."""
+    the same for ViscousDamper and 20% worse for Viscous).  ``connection``:
+    a damper of two materials in series (``Export.connection``): the law
+    (``tag``) from the fixed node to an internal node without mass, the
+    connection (tag + connection) from there to the driven end."""
     ops, commands = _ops(), listed(commands)
     _fresh(ops, commands)
     dt = float(t[1] - t[0])
     ops.node(1, 0.0)
     ops.node(2, 0.0)
     ops.fix(1, 1)
-    ops.element("zeroLength", 1, 1, 2, "-mat", int(tag), "-dir", 1)
+    if connection:
+        ops.node(3, 0.0)
+        ops.element("zeroLength", 2, 1, 3, "-mat", int(tag), "-dir", 1)
+        ops.element("zeroLength", 1, 3, 2, "-mat", int(tag) + int(connection), "-dir", 1)
+    else:
+        ops.element("zeroLength", 1, 1, 2, "-mat", int(tag), "-dir", 1)
     ops.timeSeries("Path", 1, "-dt", dt, "-values", *map(float, d))
     ops.pattern("Plain", 1, 1)
     ops.sp(2, 1, 1.0)
@@ -128,7 +137,8 @@ def check(model, params: dict, t, d, v=None, a=None, element: bool = False, subs
     """Export ``model`` with ``params`` ({name: value}) (or take ``export``, its Export), drive it with d [mm]
     at times t [s] (uniform; v [mm/s], a [mm/s^2]: np.gradient when not
     given), and compare with ``model.force`` (``substeps`` per sample) on the
-    same history; ``element``: through a zeroLength element (``drive_element``)."""
+    same history; ``element``: through a zeroLength element (``drive_element``; a damper
+    of two materials in series always is, through an internal node)."""
     model = model if isinstance(model, Model) else parse_model(model)
     t, d = np.asarray(t, dtype=float), np.asarray(d, dtype=float)
     v = np.gradient(d, t) if v is None else np.asarray(v, dtype=float)
@@ -139,7 +149,9 @@ def check(model, params: dict, t, d, v=None, a=None, element: bool = False, subs
     export = export or opensees_export(model, params, tag=1, tested=tested)
     # in the export's own units (kN, mm, s unless it was written in others), its force back in kN
     kt, kd = factor("t", export.units["t"]), factor("d", export.units["d"])
-    if element:
+    if export.connection:  # two materials in series: in elements, TRBDF2 (average acceleration rings at contact)
+        F_ops = drive_element(export, export.tag, t / kt, d / kd, ("TRBDF2",), export.connection)
+    elif element:
         F_ops = drive_element(export, export.tag, t / kt, d / kd)
     else:
         F_ops = drive_material(export, export.tag, t / kt, d / kd, v * kt / kd)

@@ -194,6 +194,9 @@ def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=Non
         commands = None
         try:
             export = cal.solving(opensees_export(cal.model, cal.named(), DAMPER_TAGS_FROM, tested=cal.tested))
+            if export.connection:  # the frames place one damper element per brace
+                raise InputError(f"model {cal.spec} is two materials in series through an internal node, "
+                                 f"which the frames do not place")
             case.exact, case.note, commands = export.exact, export.note, export.commands
         except InputError as exc:
             case.note = str(exc)

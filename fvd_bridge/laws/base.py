@@ -70,7 +70,9 @@ class OpenSeesForm:
     proportional to the step), 'table' (a tabulated curve), 'gap'
     (ViscousDamper's LGap, bound proportional to the clearance); ``stateless``:
     the material keeps no history; ``needs_stateless``: an output effect
-    that can wrap a stateless law's material only (asymmetry)."""
+    that can wrap a stateless law's material only (asymmetry); ``exponent``:
+    the parameter that is the exponent of its ``Viscous`` dashpot ('' for
+    a linear one or none)."""
 
     materials: str
     build: Callable
@@ -79,6 +81,7 @@ class OpenSeesForm:
     refuse: Callable | None = None
     stateless: bool = False
     needs_stateless: bool = False
+    exponent: str = ""
 
 
 @dataclass(frozen=True)
@@ -103,7 +106,10 @@ class Law:
     from a sample alone);
     ``global_search``: its objective has basins that a local solve from a
     sample does not always leave, so the default optimizer checks its local
-    optimum globally (``LocalSettings.always_check``)."""
+    optimum globally (``LocalSettings.always_check``); ``csi``: the CSI
+    (SAP2000, ETABS) damper link it is ('Damper - Exponential': a spring in
+    series with C sign(v)|v|^alpha; 'Damper - Bilinear': the oil damper; ''
+    none), its parameter values refused as its OpenSees form refuses them."""
 
     number: int
     name: str
@@ -124,6 +130,7 @@ class Law:
     paper: bool = True
     global_search: bool = False
     start: Callable | None = None
+    csi: str = ""
 
     @property
     def key(self) -> str:

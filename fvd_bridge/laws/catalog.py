@@ -43,10 +43,10 @@ ALPHA = Parameter("alpha", "-", (0.0, 1.0), _alpha, "damping exponent")
 LAWS = {
     1: Law(1, "linear viscous", "algebraic", "F = C v", "paper eq. 1",
            (C_LIN,), algebraic.law1, velocity_only=True, reference=(0.6,), opensees=ops_form.LAW1,
-           start=starts.law1),
+           start=starts.law1, csi="Damper - Exponential"),
     2: Law(2, "generalized viscous", "algebraic", "F = C sign(v)|v|^alpha", "paper eq. 2",
            (C_POW, ALPHA), algebraic.law2, velocity_only=True, reference=(45.0, 0.3), opensees=ops_form.LAW2,
-           start=starts.law2),
+           start=starts.law2, csi="Damper - Exponential"),
     3: Law(3, "generalized viscous + linear spring", "algebraic",
            "F = K1 d + C sign(v)|v|^alpha", "paper eq. 5",
            (C_POW, ALPHA, Parameter("K1", "kN/mm", (0.0, 200.0), _k_lin, "parallel stiffness")),
@@ -96,7 +96,7 @@ LAWS = {
            differential.law7,
            note="paper bounds cap the force near C 500^0.3 = 65 kN: law 7 cannot reach a 300 kN loop.",
            state=("z",), reference=(45.0, 0.3, 100.0, 1.0), opensees=ops_form.LAW7,
-           global_search=True),  # 2 local starts missed DE by 34% on the shared friction damper (1 seed in 10)
+           global_search=True, csi="Damper - Exponential"),  # 2 local starts missed DE by 34% on the shared friction damper (1 seed in 10)
     8: Law(8, "Lu unified, friction + viscous", "differential",
            "F = z mu N + C v;  dz/dt = K/(mu N) v, z held in [-1, 1]",
            "paper eqs. 12-13 (Lu et al.), an elastic-perfectly-plastic slip element",
@@ -140,7 +140,7 @@ LAWS = {
             opensees=OpenSeesForm("BilinearOilDamper K C Fr p",
                                   lambda s, p: s.mat("BilinearOilDamper", p["K"], p["C"], p["Fr"], p["p"],
                                                      global_step=True)),
-            start=starts.law10),
+            start=starts.law10, csi="Damper - Bilinear"),
 }
 #: the paper's nine laws (its protocol: ``demo``, calibrate's default)
 PAPER_LAWS = tuple(law for law in LAWS.values() if law.paper)

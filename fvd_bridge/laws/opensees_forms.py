@@ -19,6 +19,11 @@ from .base import OpenSeesForm
 TENSION_ONLY_RESIDUAL = 1e-4
 
 
+#: a ``Viscous`` dashpot with an exponent below this defeats Newton at velocity
+#: reversals (its tangent is unbounded there: frames/transient.py)
+NEWTON_ALPHA = 0.5
+
+
 def viscous(s, C, alpha=1.0) -> int:
     """C sign(v)|v|^alpha [kN], v [mm/s]: ``Viscous`` (ViscousMaterial.cpp)."""
     return s.mat("Viscous", C, alpha)
@@ -78,12 +83,12 @@ LAW2 = OpenSeesForm("Viscous C alpha", lambda s, p: viscous(s, p["C"], p["alpha"
                     series=lambda s, p, Ks, g=0.0: maxwell(s, Ks, p["C"], p["alpha"], g))
 LAW3 = OpenSeesForm("Parallel(Elastic K1, Viscous C alpha)",
                     lambda s, p: s.parallel([s.mat("Elastic", p["K1"]), viscous(s, p["C"], p["alpha"])]),
-                    stateless=True)
+                    stateless=True, exponent="alpha")
 LAW4 = OpenSeesForm("Parallel(Elastic K1, Viscous, 2 TensionOnly of ElasticPowerFunc +-abs(K2) exp 2)",
-                    _law4, stateless=True)
+                    _law4, stateless=True, exponent="alpha")
 LAW5 = OpenSeesForm("Parallel(ElasticPowerFunc K beta, Viscous)",
                     lambda s, p: s.parallel([s.mat("ElasticPowerFunc", "-coeff", p["K"], "-exp", p["beta"]),
-                                             viscous(s, p["C"], p["alpha"])]), stateless=True)
+                                             viscous(s, p["C"], p["alpha"])]), stateless=True, exponent="alpha")
 # law 6: A = n = 1, gamma = beta (fvd_bridge.laws.steps.law6_bouc_wen)
 LAW6 = OpenSeesForm("Parallel(BoucWen alpha K 1 beta beta 1 0 0 0, Viscous C 1)",
                     lambda s, p: s.parallel([bouc_wen(s, p["alpha"], p["K"], p["beta"], p["beta"]),

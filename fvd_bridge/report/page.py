@@ -28,6 +28,7 @@ from ..fit import noise_floor
 from ..fit.objective import AT_FLOOR, EXPLAINS_LITTLE, NEAR_FLOOR
 from ..errors import InputError, PluginNeeded
 from ..export.ledger import exports_of
+from ..model import EXPORT_TARGETS, export_step
 from ..records.readers import read_as_stored
 from ..records.cycles import force_noise
 from .acceptance import TOLERANCE, checks_of_test
@@ -151,9 +152,7 @@ def _next_commands(cal, device: str, shown: str, out: str, floor: float | None) 
     material holds it, else to an FMU); where its OF is beyond the noise,
     diagnose what it misses, on the same records read the same way."""
     path = shlex.quote(os.path.join(shown, os.path.relpath(cal.path, out))) if cal.path else "PARAMS.yaml"
-    refusal = cal.model.exports(cal.named())
-    target, output = ("opensees", "damper.py") if not refusal["opensees"] else ("fmu", "damper.fmu")
-    lines = [f"fvd-bridge export {target} {path} -o {output}"]
+    lines = [export_step(cal.model.exports(cal.named()), path)]
     sources = [t.record for t in cal.tests]
     if (floor is None or cal.of > NEAR_FLOOR * floor) and all(s.file for s in sources) and sources:
         files = [shlex.quote(s.file) for s in sources]
@@ -312,10 +311,12 @@ def _diagnosis_sections(out: str) -> str:
         base = path[:-len("_diagnose.json")]
         figs = [p for p in (f"{base}_where.png", f"{base}_where_final.png", f"{base}_ladder.png") if os.path.isfile(p)]
         files = rep.get("calibrations") or {}
-        best = next((c for c in rep.get("all_candidates", []) if c.get("significant") and c.get("calibration")),
-                    None)
-        target = ("opensees", "damper.py") if best and "opensees" in (best.get("exports") or []) else ("fmu", "damper.fmu")
-        lines = [f"fvd-bridge export {target[0]} {shlex.quote(best['calibration'])} -o {target[1]}"] if best else []
+        target = rep.get("target")
+        best = next((c for c in rep.get("all_candidates", []) if c.get("significant") and c.get("calibration")
+                     and (target is None or target in (c.get("exports") or []))), None)
+        step = best and export_step({t: "" if t in best.get("exports", []) else "no" for t in EXPORT_TARGETS},
+                                    shlex.quote(best["calibration"]), target)
+        lines = [step] if step else []
         parts += [f"<section class='diagnosis'><h2>diagnosis of {escape(model)} on {escape(rep['record'])}</h2>",
                   f"<p class='answer'><b>Verdict:</b> {escape(rep.get('verdict', ''))}</p>",
                   f"<p>law {escape(model)} alone: {escape(_how_good(rep['of'], rep.get('noise_floor_of')))}."
@@ -349,7 +350,8 @@ def _compare_sections(out: str) -> str:
                             rounded(measured.get(energy_key)), ""])
         energy = ("energy per cycle [kN mm = J]" if per_cycle else "energy, total [kN mm = J]")
         if per_cycle:
-            how = f"energy per cycle: the integral of F dd over the record / its {rep['cycles']:.3g} displacement cycles"
+            how = (f"energy per cycle: the integral of F dd over the record / its {rep['cycles']:.3g} "
+                   f"displacement cycles")
         elif any("energy_kNmm" in m for m in rep.get("models", [])):
             how = "energy: the integral of F dd over the record (d reverses fewer than twice: no cycles to count)"
         else:
