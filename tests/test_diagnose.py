@@ -375,3 +375,29 @@ def test_the_floor_is_the_records_and_what_the_true_model_reaches(protocol, lab_
     gap = catalog().model("2+gap")
     with_gap = fit_model(gap, rec, seed=0)
     assert record_floor(gap, with_gap.params, rec).floor == pytest.approx(floor, rel=0.02)
+
+
+def test_target_ranks_only_what_reaches_it(friction_csv, tmp_path, capsys):
+    """--target sap2000: friction (the planted effect) has no CSI damper link,
+    so it is left out, named with its gain and why; nothing that reaches
+    SAP2000 helps, so no export is printed; the same diagnosis without a
+    target suggests friction and exports it to OpenSees (its verdict, its
+    next line)."""
+    code = cli.main(["diagnose", str(friction_csv), "--law", "2", "--target", "sap2000", "--out",
+                     str(tmp_path / "d"), "--pop", "8", "--gens", "60", "--quiet", "--no-figures"])
+    assert code == 0
+    out = capsys.readouterr().out
+    report = json.loads((tmp_path / "d" / "friction_dev_diagnose.json").read_text())
+    assert report["target"] == "sap2000" and report["candidates"] == []
+    assert report["left_out"]["spec"] == "2+friction" and "effect 'friction'" in report["left_out"]["why"]
+    assert "does not reach SAP2000: effect 'friction'" in out and "next:" not in out
+    page = (tmp_path / "d" / "report.html").read_text()
+    diagnosis = page.split("<section class='diagnosis'>")[1].split("</section>")[0]
+    assert "does not reach SAP2000" in diagnosis and "fvd-bridge export" not in diagnosis  # the page follows it
+
+
+def test_target_refuses_an_unknown_one_in_one_line(friction_csv, tmp_path, capsys):
+    code = cli.main(["diagnose", str(friction_csv), "--law", "2", "--target", "abaqus", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "abaqus" in err and "sap2000" in err, err
+    assert not (tmp_path / "o").exists()

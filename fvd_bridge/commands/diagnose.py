@@ -44,7 +44,7 @@ def add_parser(sub):
                    help="with --device: fit this parameter per test (the rest shared), the base and every "
                         "candidate, as calibrate --per-test does, e.g. --per-test beta (repeatable). Without it, "
                         "diagnose checks whether one parameter differs between the tests and says which")
-    p.add_argument("--target", choices=tuple(EXPORT_TARGETS), metavar="TARGET",
+    p.add_argument("--target", metavar="TARGET",
                    help="where the model must go: opensees, fmu, sap2000 or etabs (default: anywhere). Only "
                         "what exports there is suggested; the best model it leaves out is named with its gain; "
                         "the next step is that target's export")
@@ -77,6 +77,8 @@ def run(args) -> int:
     from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
 
     check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
+    if args.target is not None and args.target not in EXPORT_TARGETS:
+        raise InputError(f"--target {args.target}: expected one of {', '.join(EXPORT_TARGETS)}")
     replicates(args.intervals)
     for name in ("pop", "gens", "max_rungs"):
         value = getattr(args, name)
