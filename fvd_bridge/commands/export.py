@@ -1,7 +1,9 @@
-"""``fvd-bridge export``: a calibrated damper as an OpenSees material (script or Tcl)."""
+"""``fvd-bridge export``: a calibrated damper as an OpenSees material (script
+or Tcl), an FMU, or a SAP2000/ETABS damper link."""
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 
@@ -16,13 +18,15 @@ from .common import (CALIBRATION_RECORD, add_plugin_option, add_record_options, 
 
 
 def add_parser(sub):
-    p = sub.add_parser("export", help="export a calibrated damper: OpenSees material, FMI 3 co-simulation FMU",
+    p = sub.add_parser("export", help="export a calibrated damper: OpenSees material, FMI 3 co-simulation FMU, "
+                                      "SAP2000/ETABS link",
                        description="Turn a calibration file (params/<device>/law<SPEC>.yaml) into the tools "
                                    "engineers use. 'opensees': the damper's uniaxial material as an OpenSeesPy "
                                    "script (.py) or Tcl (.tcl), native materials where exact; --check drives one "
                                    "OpenSees material with a record's displacement and compares the force. "
                                    "'fmu': an FMI 3.0 co-simulation FMU (C sources included), built, validated "
-                                   "and checked against the Python model.")
+                                   "and checked against the Python model. 'sap2000', 'etabs': the damper as a "
+                                   "SAP2000 ($2k tables) or ETABS (.e2k) damper link property.")
     targets = p.add_subparsers(dest="target", metavar="TARGET", required=True)
     o = targets.add_parser("opensees", help="OpenSees uniaxial material (OpenSeesPy script or Tcl)",
                            description="Write the damper's OpenSees material definition; the language follows "
@@ -61,6 +65,37 @@ def add_parser(sub):
     add_plugin_option(f)
     add_record_options(f)
     f.set_defaults(func=run_fmu)
+    for target, program, suffix in (("sap2000", "SAP2000", ".s2k"), ("etabs", "ETABS", ".e2k")):
+        _add_csi(targets, target, program, suffix)
+
+
+def _add_csi(targets, target: str, program: str, suffix: str) -> None:
+    """``export sap2000`` / ``export etabs``: the damper as a CSI damper link (``export.csi``)."""
+    c = targets.add_parser(target, help=f"{program} damper link property ({suffix} text file to import)",
+                           description=f"Write the damper as a {program} link property ({suffix}; default: print "
+                                       "it): Damper - Exponential for laws 1, 2 (alone or with a series spring) and "
+                                       "law 7 with beta 1, Damper - Bilinear for law 10; other models are refused "
+                                       "(exit 2). The file carries the nonlinear properties and the linear "
+                                       "effective stiffness and damping for linear load cases at a design motion "
+                                       "(energy-equivalent, as FEMA 356 / ASCE 41), and says how each was made; "
+                                       "the link's force is compared with the model's on the calibration record. "
+                                       f"Not run in {program} here.")
+    c.add_argument("params", metavar="PARAMS.yaml", help="calibration file")
+    c.add_argument("-o", "--output", metavar="FILE", help=f"the file to write (damper{suffix}; default: print it)")
+    c.add_argument("--units", dest="units_out", metavar="FORCE,LENGTH,TIME",
+                   help=f"units of the {program} model, e.g. kN,m,s or N,mm,s or kip,in,s (default kN,mm,s; "
+                        "seconds only): every value is converted, the dashpot's c with its exponent")
+    c.add_argument("--amplitude", type=float, metavar="MM",
+                   help="design amplitude [mm, whatever --units] of the linear effective properties "
+                        "(default: the tested peak stroke)")
+    c.add_argument("--frequency", type=float, metavar="HZ",
+                   help="design frequency [Hz] of the linear effective properties (default: the sine that "
+                        "reaches the tested peak velocity at that amplitude)")
+    c.add_argument("--name", default="FVD1", help="the link property's name (default FVD1)")
+    add_test_option(c)
+    add_plugin_option(c)
+    add_record_options(c, units_flag="--record-units")
+    c.set_defaults(func=run_csi)
 
 
 def run_opensees(args) -> int:
@@ -101,6 +136,59 @@ def run_opensees(args) -> int:
     else:
         sys.stdout.write(script)
     return 0
+
+
+def run_csi(args) -> int:
+    """``export sap2000`` / ``export etabs``: the link file, checked before any
+    work and written whole; the link's force against the model's on the
+    calibration record, said on stderr."""
+    from ..export.csi import csi_link
+    from ..export.csi_files import SUFFIXES, sap2000_units, to_text
+
+    suffixes = SUFFIXES[args.target]
+    if args.output:
+        if not args.output.lower().endswith(suffixes):
+            raise InputError(f"-o {args.output}: the suffix must be {' or '.join(suffixes)}")
+        check_output(args.output, "file", "-o")
+    cal = Calibration.load(args.params, plugins=args.plugin).for_test(args.test)
+    link = csi_link(cal.model, cal.named(), units=args.units_out, tested=cal.tested, amplitude=args.amplitude,
+                    frequency=args.frequency, name=args.name)
+    u0, f = link.linear.u0, link.linear.frequency
+    for line in cal.beyond_tested({"d": u0, "v": 2.0 * math.pi * f * u0, "f": f}, what_of="the design motion"):
+        print(f"warning: {line}", file=sys.stderr)
+    check = _csi_check(cal, link, args)
+    said = ([] if check is None else
+            [f"checked on {check['record']}: the link's force against the model's, OF {check['of']:.3g} (eq. 18)"])
+    text = to_text(link, args.target, cal.provenance_lines() + said)
+    if not args.output:
+        sys.stdout.write(text)
+        return 0
+    with atomic_file(args.output, "wb") as fh:  # the CRLF lines as they are, on any platform
+        fh.write(text.encode("utf-8"))
+    print(f"wrote {args.output}: model {cal.spec} as the {link.kind} link {link.name} ({sap2000_units(link)}); "
+          f"k: {link.spring}", file=sys.stderr)
+    _note(cal, args, args.target, args.output, system_text(link.units), check)
+    return 0
+
+
+def _csi_check(cal, link, args) -> dict | None:
+    """The link's force (``export.csi.link_force``) against the model's on the
+    calibration record, as eq. 18's OF, said on stderr (None: no record)."""
+    from ..export.csi import link_force
+
+    try:
+        record = read_as_calibrated(cal.record, args)
+    except InputError as exc:
+        record, why = None, str(exc)
+    else:
+        why = f"its file {cal.record.file} is not found"
+    if record is None:
+        print(f"not checked on the calibration record: {why}", file=sys.stderr)
+        return None
+    of = float(objective(cal.force(record), link_force(link, record), record.t))
+    print(f"check on {record.name}: OF(link vs model) = {of:.3g} (eq. 18, the model's force as reference"
+          f"{'; the stiff spring' if 'stiff spring' in link.spring else ''})", file=sys.stderr)
+    return {"record": record.name, "of": of, "bound": None, "ok": True}
 
 
 def _check(cal, export, record, args):
