@@ -20,6 +20,8 @@ of a long device name that differs, the bound), as the tables show it.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from ..report.names import common_form, distinct
@@ -142,8 +144,8 @@ def grouped_notes(cases) -> list[dict]:
             continue
         for item in c.beyond:
             add(_kind(item), c, item)
-        if c.result.solver.message:
-            add(("solver", c.result.solver.message), c, c.result.solver.message)
+        if c.result.solver.message:  # alike messages (their numbers apart) are one kind
+            add(("solver", re.sub(r"\d+(\.\d+)?", "#", c.result.solver.message)), c, c.result.solver.message)
         if c.note and not c.exact:
             add(("run",), c, c.note)
     notes = []
@@ -153,7 +155,10 @@ def grouped_notes(cases) -> list[dict]:
         if key[0] in ("beyond", "given"):
             text = _beyond_text(key, entries, cases)
         elif key[0] == "solver":
-            text = f"{key[1]} ({cases_text(concerned, cases)})"
+            first = [c for c, message in entries if message == entries[0][1]]
+            rest = [c for c, message in entries if message != entries[0][1]]
+            text = f"{entries[0][1]} ({cases_text(first, cases)})" + (
+                f"; alike, with their own times and values, in {cases_text(rest, cases)}" if rest else "")
         else:
             per_model = {}
             for c, note in entries:
@@ -269,7 +274,7 @@ def _tested_line(cases, notes: list) -> str:
         if quantity == "frequency":
             values, limit = _hz([i["value"] for i in items]), _hz([x for i in items for x in i["limit"]])
         else:
-            values = "up to " + _span([i["value"] for i in items], digits=DIGITS, unit=items[0]["unit"])
+            values = f"up to {rounded(max(i['value'] for i in items), digits=DIGITS)} {items[0]['unit']}"
             limit = _span([i["limit"] for i in items], digits=DIGITS, unit=items[0]["unit"])
         parts[against].append(f"{quantity} {values}, {'tested' if against == 'beyond' else 'limit'} {limit}, "
                               f"in {_few([c for c, _ in entries], cases)}")

@@ -49,13 +49,15 @@ SCROLL = "<div style='overflow-x:auto;max-width:100%'>{}</div>"
 #: the bounds as the tables name them
 BOUND_NAMES = {"nominal": "nominal", "upper": "upper bound", "lower": "lower bound"}
 
-#: numbers and the bounds' names stay on one line; headers wrap, and so do the cases' names (the model
-#: and device columns, class l1 or l2), a long name anywhere if it must, so that no table is wider than the page
+#: numbers and names stay on one line and headers wrap; a case's name longer than NAME_CHARS (the model's
+#: or device's column, class w1 or w2; a header, class wh) wraps, anywhere if it must, so that no table is
+#: wider than the page
 STYLE = ("#frame td{white-space:nowrap}#frame th{white-space:normal}"
-         "#frame table.l1 td:nth-child(-n+1),#frame table.l2 td:nth-child(-n+2)"
-         "{white-space:normal;overflow-wrap:anywhere}#frame td.note{white-space:normal}"
+         "#frame table.w1 td:nth-child(1),#frame table.w2 td:nth-child(2)"
+         "{white-space:normal;overflow-wrap:anywhere;min-width:16ch}#frame table.wh th{overflow-wrap:anywhere}"
+         "#frame td.note{white-space:normal}"
          "#frame p.answer{line-height:1.5}")
-#: a model's name keeps a line of its own up to this many characters wide (longer, it wraps)
+#: a case's name up to this many characters keeps one line
 NAME_CHARS = 32
 
 
@@ -147,14 +149,13 @@ def _case_notes(summary: dict) -> tuple[list, dict]:
 
 
 def _table(head: list, rows: list, caption: str, labels: int) -> str:
-    """``html.table`` with its first ``labels`` columns (the cases' names)
-    allowed to wrap, the first as wide as its longest name up to NAME_CHARS
-    (a squeezed table wraps its numbers' headers before a model's name)."""
-    if not labels:
-        return SCROLL.format(table(head, rows, caption))
-    wide = min(NAME_CHARS, max(len(str(r[0])) for r in rows)) if rows else 0
-    style = f"<style>#frame table.w{wide} td:first-child{{min-width:{wide}ch}}</style>" if wide else ""
-    return style + SCROLL.format(table(head, rows, caption, css=f"l{labels} w{wide}"))
+    """``html.table`` whose first ``labels`` columns (the cases' names) wrap
+    where a name is longer than NAME_CHARS (class w1, w2), and its headers
+    anywhere where one holds a word that long (class wh); a shorter name
+    keeps its line, and a squeezed table wraps its headers instead."""
+    wrap = [f"w{k + 1}" for k in range(labels) if rows and max(len(str(r[k])) for r in rows) > NAME_CHARS]
+    wrap += ["wh"] * any(len(h) > NAME_CHARS and max(map(len, h.split())) > NAME_CHARS for h in head)
+    return SCROLL.format(table(head, rows, caption, css=" ".join(wrap)))
 
 
 def _response_table(summary: dict) -> str:
