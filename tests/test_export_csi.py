@@ -29,7 +29,9 @@ from fvd_bridge.calibration import Calibration
 from fvd_bridge.calibration.parts import TestFit
 from fvd_bridge.calibration.schema import record_provenance
 from fvd_bridge.catalog import parse_model
-from fvd_bridge.export.csi import EXPONENTIAL, bilinear_energy, effective, energy_factor, power_energy
+from fvd_bridge.errors import InputError
+from fvd_bridge.export.csi import (EXPONENTIAL, bilinear_energy, csi_link, effective, energy_factor,
+                                   power_energy)
 from fvd_bridge.export.opensees import EXACT_OF, SOLVING_DEFLECTION
 from fvd_bridge.fit.objective import objective
 from fvd_bridge.records.device import tested_range as range_of
@@ -218,7 +220,8 @@ def test_e2k_without_series_spring_gets_the_stated_stiff_spring(lab, tmp_path):
     """Law 2 alone in N, mm, s: k = C v^alpha / (0.005 d) from the file's
     tested range, C 1000 C; the link with that spring integrated: it lags
     the dashpot by what the file states (OF 0.018 here: a spring that takes
-    0.5% of the stroke, at alpha 0.3), within the integrator's 2e-4."""
+    0.5% of the stroke, at alpha 0.3), within the integrator's 2e-4; a
+    spring ten times stiffer (--spring-deflection 0.0005) lags less."""
     _, files = lab
     out = tmp_path / "damper.e2k"
     assert export("etabs", files["plain"], out, "--units", "N,mm,s") == 0
@@ -234,11 +237,16 @@ def test_e2k_without_series_spring_gets_the_stated_stiff_spring(lab, tmp_path):
     k = 45.0 * tested["v"] ** 0.3 / (SOLVING_DEFLECTION * tested["d"]) * 1000.0
     assert float(values["K"]) == pytest.approx(k, rel=1e-12)
     assert float(values["C"]) == pytest.approx(45000.0, rel=1e-12) and float(values["EXP"]) == 0.3
-    assert "no series spring was calibrated: a stiff spring that deflects 0.5% of the tested stroke" in text
+    assert "no series spring (or a rigid one): a stiff spring that deflects 0.5% of the tested stroke" in text
     cal, rec = record_of(files["plain"])
     of = objective(cal.force(rec), maxwell(rec.t, travel(rec), k, 45000.0, 0.3, rtol=1e-6) / 1000.0, rec.t)
     said = float(re.search(r"OF ([0-9.e-]+) \(eq. 18\)", text).group(1))
     assert said == pytest.approx(of, abs=EXACT_OF) and 0.005 < of < 0.03
+    assert export("etabs", files["plain"], out, "--units", "N,mm,s", "--spring-deflection", "0.0005") == 0
+    stiffer = out.read_text()
+    values = dict(zip(*[iter(read_e2k(stiffer)["LINK PROPERTIES"][1][4:])] * 2))
+    assert float(values["K"]) == pytest.approx(10.0 * k, rel=1e-12)
+    assert float(re.search(r"OF ([0-9.e-]+) \(eq. 18\)", stiffer).group(1)) < 0.4 * said
 
 
 def steady_cycle(k, c, cexp, u0, frequency):
@@ -298,6 +306,23 @@ def test_the_energy_per_cycle_against_quadrature():
         W = quad(lambda s: f(u0 * w * math.cos(w * s)) * u0 * w * math.cos(w * s), 0.0, 2 * math.pi / w,
                  points=kinks, limit=200)[0]
         assert bilinear_energy(1.0, limit, 0.1, w, u0) == pytest.approx(W, rel=1e-9)
+
+
+def test_law7_maxwell_and_the_oil_column_are_exponential_links():
+    """Law 7 with beta 1 is the Maxwell model: k = K, behind a series spring
+    K Ks / (K + Ks) (springs in series); an oil column's Ks is k; beta 1.2
+    (a power-law spring) and a seal's friction are refused, naming the way."""
+    tested = {"d": 40.0, "v": 500.0}
+    law7 = {"C": 45.0, "alpha": 0.3, "K": 100.0, "beta": 1.0}
+    assert csi_link("7", law7, tested=tested).native == {"k": 100.0, "c": 45.0, "cexp": 0.3}
+    behind = csi_link("7+series_stiffness", {**law7, "series_stiffness.Ks": 150.0}, tested=tested)
+    assert behind.native["k"] == pytest.approx(100.0 * 150.0 / 250.0, rel=1e-15)
+    assert csi_link("2+oil_column", {**PLAIN, "oil_column.Ks": 150.0}, tested=tested).native["k"] == 150.0
+    with pytest.raises(InputError, match=r"law 7 with beta = 1.2 .*'2\+series_stiffness'"):
+        csi_link("7", {**law7, "beta": 1.2}, tested=tested)
+    with pytest.raises(InputError, match="effect 'friction'"):
+        csi_link("2+oil_column+friction", {**PLAIN, "oil_column.Ks": 150.0, "friction.Ff": 2.0,
+                                           "friction.v_f": 1.0}, tested=tested)
 
 
 # ------------------------------------------------------------------ what is refused

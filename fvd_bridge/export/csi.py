@@ -222,7 +222,7 @@ def design_motion(tested: dict, amplitude: float | None, frequency: float | None
     return float(u0), float(frequency)
 
 
-def _native(model: Model, p: dict, tested: dict) -> tuple[dict, str]:
+def _native(model: Model, p: dict, tested: dict, deflection: float) -> tuple[dict, str]:
     """The link's values {k, c, cexp} or {k, c, cy, force_limit} [kN, mm, s]
     and where k comes from (module docstring: Links)."""
     law = model.law
@@ -241,11 +241,12 @@ def _native(model: Model, p: dict, tested: dict) -> tuple[dict, str]:
     if not d or not v:
         raise InputError(f"model {model.spec}: no series spring and no tested stroke and velocity to size the "
                          f"stiff spring a CSI damper link needs")
-    k = c * v ** cexp / (SOLVING_DEFLECTION * d)
+    k = c * v ** cexp / (deflection * d)
+    rule = ", as export.opensees.solving_springs" if deflection == SOLVING_DEFLECTION else ""
     return {"k": k, "c": c, "cexp": cexp}, (
-        f"no series spring was calibrated: a stiff spring that deflects {100 * SOLVING_DEFLECTION:g}% of the "
-        f"tested stroke {d:.4g} mm under the dashpot's force at the tested velocity {v:.4g} mm/s "
-        f"(k = C v^alpha / ({SOLVING_DEFLECTION:g} d), as export.opensees.solving_springs)")
+        f"the model has no series spring (or a rigid one): a stiff spring that deflects {100 * deflection:g}% of "
+        f"the tested stroke {d:.4g} mm under the dashpot's force at the tested velocity {v:.4g} mm/s "
+        f"(k = C v^alpha / ({deflection:g} d){rule})")
 
 
 def refusal(model: Model, p: dict) -> str:
@@ -262,7 +263,8 @@ def refusal(model: Model, p: dict) -> str:
 
 
 def csi_link(model, params: dict, units=None, tested: dict | None = None, amplitude: float | None = None,
-             frequency: float | None = None, name: str = "FVD1") -> CsiLink:
+             frequency: float | None = None, name: str = "FVD1",
+             deflection: float = SOLVING_DEFLECTION) -> CsiLink:
     """The damper as a CSI damper link.
 
     Parameters
@@ -280,6 +282,11 @@ def csi_link(model, params: dict, units=None, tested: dict | None = None, amplit
         The design motion of the linear properties [mm], [Hz] (``design_motion``).
     name : str
         The link property's name.
+    deflection : float
+        A model without a series spring: the share of the tested stroke its
+        stiff spring deflects under the force at the tested velocity
+        (default SOLVING_DEFLECTION, 0.005; smaller: stiffer, closer to the
+        calibrated dashpot).
 
     Returns
     -------
@@ -296,8 +303,11 @@ def csi_link(model, params: dict, units=None, tested: dict | None = None, amplit
     why = refusal(model, p)
     if why:
         raise InputError(why)
+    if not (math.isfinite(deflection) and 0.0 < deflection < 1.0):
+        raise InputError(f"{option('--spring-deflection', deflection)}: must lie between 0 and 1 (a share of the "
+                         f"tested stroke, e.g. 0.005)")
     tested = tested or {}
-    native, spring = _native(model, p, tested)
+    native, spring = _native(model, p, tested, deflection)
     u0, f = design_motion(tested, amplitude, frequency)
     source = ("given" if amplitude is not None else "the tested peak stroke",
               "given" if frequency is not None else "the sine reaching the tested peak velocity at that stroke")
