@@ -193,6 +193,20 @@ def test_each_kind_of_note_appears_once(stored):
     check_notes(stored[0])
 
 
+def test_an_older_summary_opens_with_its_verdict(stored, tmp_path):
+    """A frame_summary.json written before the answer (no 'answer', 'notes', 'choice', cases' 'beyond'):
+    `fvd-bridge report` still builds its page, opening with the verdict, a note per distinct text."""
+    summary = {k: v for k, v in stored[1].items() if k not in ("answer", "notes", "choice")}
+    summary["cases"] = [{k: v for k, v in c.items() if k not in ("beyond", "short")} for c in summary["cases"]]
+    page = stored_page(tmp_path / "old", summary)
+    assert "class='answer'" not in page and "the verdict, point by point" not in page
+    first = page.index("<ul class='verdict'>")
+    assert first < page.index("<table") and html.escape(summary["verdict_lines"][0]) in page[first:]
+    notes = re.findall(r"<li>(.*?)</li>", page[page.index("<ol class='notes'>"):].split("</ol>")[0])
+    assert len(notes) == len({n for c in summary["cases"] for n in c["exceeded"]} | {
+        c["note"] for c in summary["cases"] if c["model"] and c["note"] and not c["exact"]})
+
+
 @chromium
 def test_nothing_runs_past_the_page_at_1400_px(stored, tmp_path):
     check_width(stored[0], tmp_path)
