@@ -66,8 +66,9 @@ US_FORCES = ("kip", "lbf")
 def energy_factor(alpha: float) -> float:
     """lambda(alpha) = 2^(2+alpha) Gamma^2(1 + alpha/2) / Gamma(2 + alpha) [-]:
     a dashpot C sign(v)|v|^alpha driven by u = u0 sin(omega t) dissipates
-    W = lambda C omega^alpha u0^(1+alpha) a cycle (FEMA 356 eq. 9-36 and
-    ASCE 41-17 C15.6.2; Soong and Dargush 1997).  lambda(1) = pi."""
+    W = lambda C omega^alpha u0^(1+alpha) a cycle (the energy FEMA 356 and
+    ASCE 41 take for a nonlinear viscous device; Soong and Dargush 1997,
+    Ramirez et al. 2001, MCEER-00-0010).  lambda(1) = pi."""
     return 2.0 ** (2.0 + alpha) * math.gamma(1.0 + alpha / 2.0) ** 2 / math.gamma(2.0 + alpha)
 
 
@@ -100,7 +101,7 @@ def maxwell_linear(k: float, c: float, omega: float) -> tuple[float, float]:
     a spring k in series with a linear dashpot c at omega [rad/s],
     K* = k i omega c / (k + i omega c) = K' + i omega C':
     K' = k (omega c)^2 / (k^2 + (omega c)^2), C' = c k^2 / (k^2 + (omega c)^2)
-    (Constantinou and Symans 1992, NCEER-92-0032, eq. 2-2)."""
+    (Constantinou and Symans 1992, NCEER-92-0032)."""
     wc = omega * c
     den = k * k + wc * wc
     return k * wc * wc / den, c * k * k / den

@@ -85,7 +85,7 @@ def comment_lines(link: CsiLink, provenance=()) -> list[str]:
         law = (f"{link.kind}: f = k d_k = c sign(d_c')|d_c'|^cexp, the spring in series with the dashpot: "
                f"k {num(v['k'])} {u['k']}, c {num(v['c'])} {u['c']}, cexp {num(v['cexp'])}")
         energy = ("W = lambda c omega^cexp u^(1+cexp), lambda = 2^(2+cexp) Gamma^2(1+cexp/2)/Gamma(2+cexp) "
-                  "(FEMA 356 eq. 9-36, ASCE 41-17 C15.6.2)")
+                  "(as FEMA 356 and ASCE 41; Soong and Dargush 1997)")
     in_units = (f" = {lin.u0 / _mm(link):.6g} {d}" if d != "mm" else "")
     return [f"fvd_bridge {__version__}: calibrated model {link.model} as the {link.kind} link {link.name}",
             *provenance,
@@ -96,8 +96,7 @@ def comment_lines(link: CsiLink, provenance=()) -> list[str]:
             f"({lin.source[1]})",
             f"  dashpot: the linear c_eq = W / (pi omega u_c^2) dissipating a cycle's energy at its own amplitude "
             f"u_c {lin.u_dashpot:.6g} mm, {energy}; with the spring, the Maxwell complex stiffness K' = k (omega "
-            f"c_eq)^2 / (k^2 + (omega c_eq)^2), C' = c_eq k^2 / (k^2 + (omega c_eq)^2) (Constantinou and Symans "
-            f"1992)",
+            f"c_eq)^2 / (k^2 + (omega c_eq)^2), C' = c_eq k^2 / (k^2 + (omega c_eq)^2) (Constantinou and Symans 1992)",
             "not run in SAP2000 or ETABS here: import it and check the link's properties"]
 
 
