@@ -38,6 +38,10 @@ API_ARGUMENT = {
     "--test-weights": "weights=[{v}]",
     "--gap-figure": "path={v!r}",
     "--intervals": "intervals={v}",
+    "--amplitude": "amplitude={v}",
+    "--frequency": "frequency={v}",
+    "--name": "name={v!r}",
+    "--spring-deflection": "deflection={v}",
 }
 
 #: each verb and the Python call that does its job (``command``)

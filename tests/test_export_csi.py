@@ -311,7 +311,8 @@ def test_the_energy_per_cycle_against_quadrature():
 def test_law7_maxwell_and_the_oil_column_are_exponential_links():
     """Law 7 with beta 1 is the Maxwell model: k = K, behind a series spring
     K Ks / (K + Ks) (springs in series); an oil column's Ks is k; beta 1.2
-    (a power-law spring) and a seal's friction are refused, naming the way."""
+    (a power-law spring) and a seal's friction are refused, naming the way;
+    the Python call's bad arguments in Python's words."""
     tested = {"d": 40.0, "v": 500.0}
     law7 = {"C": 45.0, "alpha": 0.3, "K": 100.0, "beta": 1.0}
     assert csi_link("7", law7, tested=tested).native == {"k": 100.0, "c": 45.0, "cexp": 0.3}
@@ -320,6 +321,10 @@ def test_law7_maxwell_and_the_oil_column_are_exponential_links():
     assert csi_link("2+oil_column", {**PLAIN, "oil_column.Ks": 150.0}, tested=tested).native["k"] == 150.0
     with pytest.raises(InputError, match=r"law 7 with beta = 1.2 .*'2\+series_stiffness'"):
         csi_link("7", {**law7, "beta": 1.2}, tested=tested)
+    with pytest.raises(InputError, match=r"^frequency=0.0: must be a positive number$"):  # Python's words
+        csi_link("2", PLAIN, tested=tested, frequency=0.0)
+    with pytest.raises(InputError, match=r"^units='kN,m,ms': SAP2000 and ETABS work in seconds$"):
+        csi_link("2", PLAIN, units="kN,m,ms", tested=tested)
     with pytest.raises(InputError, match="effect 'friction'"):
         csi_link("2+oil_column+friction", {**PLAIN, "oil_column.Ks": 150.0, "friction.Ff": 2.0,
                                            "friction.v_f": 1.0}, tested=tested)
