@@ -115,7 +115,9 @@ def test_no_series_connection():
     for spec in ("10+series_stiffness", "10+gap"):
         with pytest.raises(InputError, match="cannot sit behind"):
             parse_model(spec)
-    assert parse_model("10+friction").exports() == {"opensees": "", "fmu": ""}
+    exports = parse_model("10+friction").exports()
+    assert exports["opensees"] == exports["fmu"] == "" and "effect 'friction'" in exports["sap2000"]
+    assert parse_model("10").exports() == {"opensees": "", "fmu": "", "sap2000": "", "etabs": ""}
 
 
 def test_diagnose_tries_only_what_the_law_can_take(clean, tmp_path):

@@ -26,6 +26,7 @@ import numpy as np
 from ..errors import InputError
 from ..records import Record
 from ..rig import paper, trace
+from ..rig.protocols import MIN_SAMPLES_PER_CYCLE
 
 KEYS = ("velocity", "nominal_force", "tolerance", "amplitude", "cycles")
 #: the rule every device of the series is held to
@@ -91,9 +92,12 @@ def design_motion(acc: Acceptance, amplitude: float, dt: float):
 
 def series_motion(acc: Acceptance, records) -> tuple[float, float, Record]:
     """(amplitude [mm], dt [s], the design motion) of a series' records: the
-    given amplitude or their median peak displacement, their median dt."""
+    given amplitude or their median peak displacement, their median dt, finer
+    where the design sine needs it (twice MIN_SAMPLES_PER_CYCLE a cycle: a
+    design velocity far above the tests' asks a faster sine than their dt holds)."""
     amplitude = acc.amplitude or float(np.median([r.scales()["d"] for r in records]))
-    dt = float(np.median([r.dt for r in records]))
+    frequency = acc.velocity / (2.0 * np.pi * amplitude)
+    dt = min(float(np.median([r.dt for r in records])), 1.0 / (2 * MIN_SAMPLES_PER_CYCLE * frequency))
     return amplitude, dt, design_motion(acc, amplitude, dt)
 
 

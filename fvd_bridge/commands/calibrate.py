@@ -9,7 +9,7 @@ import numpy as np
 import yaml
 
 from ..campaign import bounds as series_bounds
-from ..campaign.acceptance import Acceptance
+from ..campaign.acceptance import Acceptance, series_motion
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
 from ..calibration import Calibration
@@ -324,6 +324,7 @@ def run(args) -> int:
     acc = design_acceptance(args)
     records = unique_names(read_records(args.records, args))
     records = group_device(records, args)
+    series_motion(acc, records)  # the bounds' design motion, refused before the fits rather than after
     tests = f" ({len(records[0].tests)} tests)" if args.device else ""
     print(f"calibrating {len(cs.specs)} model(s) x {len(records)} device(s){tests} x {cs.runs} run(s), "
           f"optimizer {cs.optimizer}, bounds {cs.bounds}", file=sys.stderr)

@@ -229,7 +229,18 @@ class Diagnosis:
         return [c for c in self.credited if self.reaches(c)]
 
     def reaches(self, candidate: Candidate) -> bool:
-        """Whether a candidate's model exports to the ``target`` (any: True)."""
+        """Whether a candidate's model exports to the ``target``.
+
+        Parameters
+        ----------
+        candidate : Candidate
+            One of ``candidates``.
+
+        Returns
+        -------
+        bool
+            True where it exports there, or without a target.
+        """
         return self.target is None or not candidate.exports[self.target]
 
     @property
