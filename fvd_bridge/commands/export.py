@@ -209,8 +209,10 @@ def _check(cal, export, record, args):
     quiet_opensees()
     res = check_on_record(cal, record, export)
     verdict = "within" if res.ok else "OUTSIDE"
+    how = ("; two materials in series: driven as two zeroLength elements through an internal node, TRBDF2"
+           if export.connection else "")
     print(f"check on {record.name}: OF(OpenSees vs model) = {res.of:.3g}, {verdict} the bound {res.bound:.3g} "
-          f"({'exact mapping' if res.exact else 'approximation'})", file=sys.stderr)
+          f"({'exact mapping' if res.exact else 'approximation'}{how})", file=sys.stderr)
     if res.ok:
         return res
     from ..plots.export import check_figure
