@@ -40,7 +40,7 @@ record (53.7 s, h = 5 ms, 10748 steps):
   sub-steps accepted on the displacement increment) move its response; the
   same native frame solved with a 50-iteration Newton agrees with the
   iterative co-simulation to OF 2e-6 (first 10 s, h = 20 ms; checked in
-  tests/test_cosim.py on a synthetic motion).  At h = 5 ms a reversal is
+  tests/frames/test_cosim.py on a synthetic motion).  At h = 5 ms a reversal is
   sensitive to round-off (the force ~|v|^0.3): native runs solved to 1e-2
   and to 1e-8 kN differ by OF 9e-4, and the co-simulation lies within OF
   2.5e-3 of them (first 10 s).

@@ -33,7 +33,7 @@ moves no parameter by more than STEP_TOL of its standard error (the
 sandwich H^-1 B H^-1; at most NEWTON_STEPS).  On lab-like law-2 and law-9
 records (1,757 and 9,439 samples) 3-4.5 evaluations a replicate reach the
 replicates' own full refits (``polish_model``) to 0.04 of their spread,
-at a third of their cost (``tests/test_intervals.py``); a replicate whose
+at a third of their cost (``tests/fit/test_intervals.py``); a replicate whose
 steps do not settle (a singular H, a force that is not finite) is
 refitted by ``polish_model``.  A parameter on which the OF moves in steps
 (a gap's clearance, ``Effect.stepped``) has no gradient: the Newton steps

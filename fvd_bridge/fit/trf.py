@@ -8,7 +8,7 @@ triangular factor R of the loss-scaled Jacobian J_s = Q R and Q^T f_s, not
 the m x n Jacobian and m residuals.  Both give the same singular values,
 gradient and quadratic model; scipy's work per iteration grows with the
 record (0.13 ms at 300 samples, 1.1 ms at 14,000, 3 parameters), here it
-is one Gram product.  ``tests/test_trf.py`` holds it to scipy's iterates.
+is one Gram product.  ``tests/fit/test_trf.py`` holds it to scipy's iterates.
 """
 
 from __future__ import annotations

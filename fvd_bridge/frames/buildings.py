@@ -49,7 +49,7 @@ line 4 (the moment frame's end) is a W14X257 like line 1.  The
 2% damping ratio is the benchmark's; the modes it is anchored at are this
 module's choice (``damping_modes``).
 Both frames reproduce the benchmark's first three frequencies within 0.2%
-(``fvd-bridge frame --periods``; tests/test_frames.py).  Without the pinned
+(``fvd-bridge frame --periods``; tests/frames/test_frames.py).  Without the pinned
 bay-5 connections the 9-story frame is 7% stiffer; a leaning column carrying
 the gravity load (P-Delta) would make it 2.6% softer, so the benchmark's
 frequencies are those of frames without it.

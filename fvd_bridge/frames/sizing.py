@@ -23,7 +23,7 @@ alpha = 0).  Here W_j is not taken from that closed form but computed on
 the calibrated model itself (``cycle_energy``: the model driven through
 sinusoidal cycles of u_j at omega_1, the last cycle's loop energy), so any
 law (a Maxwell element, LuGre friction) is sized by what it dissipates; the
-closed form checks it for a dashpot (tests/test_sizing.py).
+closed form checks it for a dashpot (tests/frames/test_sizing.py).
 
 Distribution: one factor for every story (the same device in each story,
 the calibrated law's force times it: OpenSees' ``Multiplier``), so the

@@ -33,7 +33,7 @@ dashpot behind a stiff spring (``export.opensees.solving_springs``: OpenSees'
 ``ViscousDamper``, which integrates the force inside the material and reports
 no tangent) and starts each step with KrylovNewton (``algorithms_for``): that
 run reaches the record's end in 10 s, its peak drifts within 0.1% of the FMU
-co-simulation's (tests/test_frames_solving.py).
+co-simulation's (tests/frames/test_frames_solving.py).
 """
 
 from __future__ import annotations

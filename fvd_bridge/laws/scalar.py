@@ -6,7 +6,7 @@ sub-step (``advance``) and the force of a sample (``force``); ``history``
 loops them exactly as the population drivers do (``algebraic.py``,
 ``differential.py``).  Every equation is one of ``steps.py`` or
 ``trbdf2.py``, called here with plain loops over one member (no SIMD lanes);
-tests/test_scalar_laws.py checks the histories against the population
+tests/laws/test_scalar_laws.py checks the histories against the population
 drivers (to 1e-12 of the peak force; laws 2 and 5-9 agree bit for bit, laws
 1, 3, 4 to rounding, their drivers being ``F = C v`` and fastmath=True); a
 law declared without a population kernel runs ``history`` per member

@@ -12,7 +12,7 @@ from fvd_bridge.records.motions import (G_MM_S2, GroundMotion, accel_factor, rea
                                        read_text, read_two_column, read_v2a)
 from fvd_bridge.rig.protocols import read_history
 
-RECORDS = Path(__file__).resolve().parents[1].parent / "shared" / "records"
+RECORDS = Path(__file__).resolve().parents[2].parent / "shared" / "records"
 
 # file, component, points, dt [s], PGA [g] (records/README.md)
 SHARED = [

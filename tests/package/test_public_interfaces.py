@@ -20,7 +20,7 @@ from fvd_bridge.errors import InputError
 from fvd_bridge.records import read_record
 from fvd_bridge.rig import Device, Noise, paper, simulate
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 FIXTURES = REPO / "tests" / "fixtures"
 
 

@@ -20,7 +20,7 @@ from fvd_bridge.fit import fit_model
 from fvd_bridge.records.device import tested_range as peaks_of
 from fvd_bridge.rig import Device, Noise, paper, simulate
 
-FIXTURES = Path(__file__).resolve().parent / "fixtures"
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures"
 V3 = FIXTURES / "calibration_v3"
 
 

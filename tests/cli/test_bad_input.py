@@ -109,7 +109,7 @@ def case_unequal_length_mat(f):
 
 
 def case_absurd_force(f):
-    F = S["F"] * 1e3  # written in N, said to be kN (without units: tests/test_units_plausible.py)
+    F = S["F"] * 1e3  # written in N, said to be kN (without units: tests/records/test_units_plausible.py)
     row = int(np.argmax(np.abs(F))) + 2
     return (write(f, "absurd.csv", csv_text("t,d,F", [S["t"], S["d"], F])), ["--units", "F=kN"],
             [f"row {row}", "column 'F'", "absurd"])

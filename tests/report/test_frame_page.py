@@ -11,7 +11,8 @@ with names three times as long.  The terminal ends with the same answer.
 
 The quick tests build the page from FIXTURE, the frame_summary.json of the
 run below (``make_fixture``; when the summary changes, write it again:
-``python tests/test_frame_page.py``); the
+``PYTHONPATH=tests python tests/report/test_frame_page.py``, tests/ for
+conftest); the
 slow ones make that run (the cheapest real one: 3-story frame, one second
 of a 1 Hz pulse train, no figures; about 20 s) and check its page alike.
 """
@@ -230,7 +231,7 @@ def test_a_real_run_answers_first_on_the_page_and_in_the_terminal(run, tmp_path)
     assert answer + "\n\nwrote " in stdout  # the terminal ends with the page's answer
 
 
-if __name__ == "__main__":  # python tests/test_frame_page.py: FIXTURE again, from make_fixture's run
+if __name__ == "__main__":  # PYTHONPATH=tests python tests/report/test_frame_page.py: FIXTURE again
     import shutil
     import tempfile
     from pathlib import Path

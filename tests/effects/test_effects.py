@@ -111,7 +111,7 @@ def test_each_effect_switched_off_is_the_bare_law(law):
     for name in SEVEN:
         e = catalog().effect(name)
         if e.stage == "series" and not base.law.connection:
-            continue  # refused by the registry (tests/test_oil_damper.py)
+            continue  # refused by the registry (tests/laws/test_oil_damper.py)
         m = parse_model(f"{law}+{name}")
         off = np.clip(e.none, *e.bounds(rec.scales()).T)
         F = m.force(rec, np.r_[p, off][None, :])[0]
@@ -248,7 +248,7 @@ def test_all_effects_together_reproduce_the_rig():
     motion (rig/simulate.py): the spring behind it keeps its force in the
     clearance, the accumulator and the mass act on the body.  It is the
     contact gap only for a law without force at rest and no spring
-    (test_each_effect_reproduces_the_rig['gap'], tests/test_contact_gap.py),
+    (test_each_effect_reproduces_the_rig['gap'], tests/effects/test_contact_gap.py),
     so here the device has none and the model's gap is closed (g = 0)."""
     dev = Device(C=C, alpha=ALPHA, Ks=150.0, friction=3.0, heating=0.2, gap=0.0, asymmetry=0.03, Kp=0.5,
                  preload=2.0, mass=500.0)
@@ -346,7 +346,7 @@ def test_extreme_parameters_stay_finite():
 
 
 # ------------------------------------------------------------------ a user's series effect
-OIL_COLUMN = Path(__file__).resolve().parents[1] / "examples" / "bulk_modulus.py"
+OIL_COLUMN = Path(__file__).resolve().parents[2] / "examples" / "bulk_modulus.py"
 
 
 def test_a_plugin_series_effect_sets_the_connection():

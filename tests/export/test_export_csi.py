@@ -199,7 +199,7 @@ def test_s2k_link_integrated_reproduces_the_model(lab, tmp_path):
 def test_bilinear_row_and_force_in_N_mm_s(lab, tmp_path):
     """Law 10 as Damper - Bilinear in N, mm, s: TransK 1000 K, TransC 1000 C,
     TransCy 1000 p C, ForceLimit 1000 Fr; integrated, the oil damper's force
-    within 2e-4 (its step form against solve_ivp: tests/test_oil_damper.py)."""
+    within 2e-4 (its step form against solve_ivp: tests/laws/test_oil_damper.py)."""
     _, files = lab
     out = tmp_path / "oil.s2k"
     assert export("sap2000", files["oil"], out, "--units", "N,mm,s") == 0

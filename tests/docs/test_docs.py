@@ -14,7 +14,7 @@ import pytest
 
 import fvd_bridge as fb
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 def public_names():

@@ -199,7 +199,7 @@ def test_the_guides_table_of_laws_is_the_registrys():
 
     from fvd_bridge.commands.laws import markdown_table
 
-    readme = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "laws.md").read_text()
+    readme = (Path(__file__).resolve().parents[2] / "docs" / "guide" / "laws.md").read_text()
     table = markdown_table()
     assert table in readme
     assert all(f"| {n} {law.name} |" in table for n, law in LAWS.items())

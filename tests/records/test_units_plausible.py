@@ -34,7 +34,7 @@ FRICTION = "arts_brfd_1Hz_35lb.csv"
 def friction(tmp_path_factory):
     """The shared friction damper's 1 Hz test (t [s], d [in], F [kip]) as
     (t, d [mm], F [kN]), and a folder for its rewritings."""
-    path = Path(__file__).resolve().parents[1] / ".." / "shared" / "devices" / FRICTION
+    path = Path(__file__).resolve().parents[2] / ".." / "shared" / "devices" / FRICTION
     if not path.is_file():
         pytest.skip(f"{path} is absent")
     data = np.loadtxt(path, delimiter=",", skiprows=1)

@@ -265,7 +265,7 @@ def test_a_parameter_fitted_per_test_shows_each_tests_value_and_interval():
     from fvd_bridge.calibration import Calibration
     from fvd_bridge.report.html import parameter_rows
 
-    path = Path(__file__).parent / "fixtures" / "calibration_v3" / "device_per_test.yaml"
+    path = Path(__file__).parents[1] / "fixtures" / "calibration_v3" / "device_per_test.yaml"
     C = yaml.safe_load(path.read_text())["parameters"]["C"]
     rows = {row[0]: row for row in parameter_rows(Calibration.load(path))}
     (first, value0), (second, value1) = C["per_test"].items()

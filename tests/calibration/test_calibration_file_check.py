@@ -22,7 +22,7 @@ from fvd_bridge.rig import Device, paper
 
 from lab import lab_record
 
-FIXTURES = Path(__file__).parent / "fixtures"
+FIXTURES = Path(__file__).parents[1] / "fixtures"
 
 
 @pytest.fixture(scope="module")

@@ -46,7 +46,7 @@ DEVICES = {"friction": Device(C=20.0, alpha=0.3, friction=40.0), "gap": Device(C
 
 def elcentro(dt: float = 0.005, duration: float = 20.0, peak: float = 20.0):
     """A 0.7 s, 5% SDOF's relative displacement [mm] under El Centro 1940 NS, scaled to ``peak``."""
-    path = Path(__file__).resolve().parents[1] / ".." / "shared" / "records" / "elcentro_1940_NS_2688pts_g_dt0.02.dat"
+    path = Path(__file__).resolve().parents[2] / ".." / "shared" / "records" / "elcentro_1940_NS_2688pts_g_dt0.02.dat"
     if not path.is_file():
         pytest.skip(f"{path} is absent")
     motion = read_motion(str(path), units="g", dt=0.02)

@@ -1,7 +1,7 @@
 """diagnose on lab-like rig records (t,d,F read back, velocity derived): the
 ladder finds two planted effects and stops; a plugin effect is calibrated
 and ranked; where the model fails; the CLI's JSON, figures and bad input.
-(Each planted effect alone, and no effect: tests/test_diagnose_lab.py.)"""
+(Each planted effect alone, and no effect: tests/diagnose/test_diagnose_lab.py.)"""
 
 from __future__ import annotations
 

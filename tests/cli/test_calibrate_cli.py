@@ -24,7 +24,7 @@ def two_devices(tmp_path_factory):
 
 def calibrate(args, cwd=None):
     """The calibrate verb in a subprocess; without intervals unless the test asks for them (their own tests:
-    tests/test_intervals.py)."""
+    tests/fit/test_intervals.py)."""
     more = [] if "--intervals" in args else ["--intervals", "0"]
     return subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", *args, *more],
                           capture_output=True, text=True, cwd=cwd)

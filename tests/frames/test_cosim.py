@@ -27,7 +27,7 @@ from fvd_bridge.records.motions import G_MM_S2, GroundMotion  # noqa: E402
 from fvd_bridge.golden import GOLDEN_DIR, REFERENCE, golden_record, read_golden  # noqa: E402
 from fvd_bridge.catalog import parse_model  # noqa: E402
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = ("fmu_cosim.py", "opensees_fmu_cosim.py")
 
 toolchain = pytest.mark.skipif(shutil.which("cmake") is None or shutil.which("cc") is None,
