@@ -46,10 +46,10 @@ def _model(model_or_spec, plugins=()):
     return catalog(plugins).model(model_or_spec) if isinstance(model_or_spec, str) else model_or_spec
 
 
-def calibrate(records, model, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
+def calibrate(records, model, *, runs: int = 1, seed: int = 0, optimizer: str = DEFAULT_OPTIMIZER,
               bounds="auto", device: str | None = None, per_test=(), start: Calibration | dict | None = None,
               intervals: int = REPLICATES, plugins=(), pop: int | None = None,
-              gens: int | None = None, fixed: dict | None = None, all_runs: bool = False, *,
+              gens: int | None = None, fixed: dict | None = None, all_runs: bool = False,
               force_zero: str = "none") -> Calibration:
     """Calibrate a model on one record or on the tests of one device.
 
@@ -174,5 +174,5 @@ def diagnose(records, model, seed: int = 0, device: str | None = None, per_test=
         tests disagree on, or None), ``.verdict()``, ``.accept(effect=None)``
         (the refit as a Calibration) and ``.ladder()``.
     """
-    return run_diagnosis(as_tests(records, device), _model(model, plugins), seed, progress=progress,
+    return run_diagnosis(as_tests(records, device), _model(model, plugins), seed=seed, progress=progress,
                          catalog=catalog(plugins), per_test=tuple(per_test), target=target)

@@ -119,7 +119,7 @@ def rig_records(spec: dict, out: str, where: str) -> list[str]:
             pass  # not ours or damaged: simulate again
     devices, protocol, noise = _build(spec, where)
     try:
-        paths = write_series(folder, devices, protocol, noise, spec["seed"], scatter=spec["scatter"],
+        paths = write_series(folder, devices, protocol, noise, seed=spec['seed'], scatter=spec["scatter"],
                              extra={"campaign_rig": plain})
     except OSError as exc:
         raise InputError(f"{where}: cannot write {folder} ({exc.strerror or exc})") from None

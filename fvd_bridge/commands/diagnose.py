@@ -104,11 +104,12 @@ def run(args) -> int:
     lad = None
     with timing.stage("ladder" if args.ladder else "diagnose"):
         if args.ladder:
-            lad = climb(record, model, args.seed, settings, args.max_rungs, progress, catalog=cat, per_test=per_test,
+            lad = climb(record, model, seed=args.seed, settings=settings, max_rungs=args.max_rungs, progress=progress,
+                        catalog=cat, per_test=per_test,
                         target=args.target)
             diag = lad.final
         else:
-            diag = diagnose(record, model, args.seed, settings, progress=progress, catalog=cat, per_test=per_test,
+            diag = diagnose(record, model, seed=args.seed, settings=settings, progress=progress, catalog=cat, per_test=per_test,
                             target=args.target)
     report = diag.as_dict()
     report["settings"] = {"seed": args.seed, "optimizer": DEFAULT_OPTIMIZER, **asdict(settings),

@@ -224,7 +224,7 @@ def run(args) -> int:
         progress(f"bounds: {args.bounds_read.source}: each damper as nominal, upper- and lower-bound device")
     try:
         with timing.stage("frame analyses"):
-            cases = run_cases(building, motion, cals, args.stroke_limit, args.force_limit, progress=progress,
+            cases = run_cases(building, motion, cals, stroke_limit=args.stroke_limit, force_limit=args.force_limit, progress=progress,
                               per_story=args.dampers_per_story, scale=args.scale_force, rank_on=rank_on,
                               target_damping=args.target_damping, design_drift=args.design_drift,
                               bounds=getattr(args, "bounds_read", None))

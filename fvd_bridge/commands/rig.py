@@ -144,7 +144,7 @@ def run(args) -> int:
         disp = DISPLACEMENT_NOISE if args.disp_noise is None else _float("disp-noise", args.disp_noise)
     noise = Noise(force, disp)
     try:
-        paths = write_series(args.out, devices, protocol, noise, seed, with_velocity=args.with_velocity,
+        paths = write_series(args.out, devices, protocol, noise, seed=seed, with_velocity=args.with_velocity,
                              scatter=scatter, extra={"demo": bool(args.demo)})
     except OSError as exc:
         raise InputError(f"--out {args.out}: cannot write ({exc.strerror or exc})") from None

@@ -195,8 +195,8 @@ class Diagnosis:
             Each rung's model, OF and gain, and each rung's diagnosis.
         """
         i = self.inputs
-        return self._climb(i.record, self.model, i.seed, i.settings, max_rungs, progress, i.catalog, self.per_test,
-                           target=self.target)
+        return self._climb(i.record, self.model, seed=i.seed, settings=i.settings, max_rungs=max_rungs,
+                           progress=progress, catalog=i.catalog, per_test=self.per_test, target=self.target)
 
     @property
     def spec(self) -> str:
@@ -370,13 +370,14 @@ def recommended(model, fit, record, settings: dict, *, zero: bool, per_test=(), 
 
     if zero:
         fit = zero_mod.beside(model, fit, record, per_test)
-    iv = (bootstrap(model, record, fit.params, agree.free(model, per_test), fit.bounds, replicates, seed=[seed, 7],
+    iv = (bootstrap(model, record, fit.params, per_test=agree.free(model, per_test), bounds=fit.bounds,
+                    replicates=replicates, seed=[seed, 7],
                     of=fit.of, force_zero=zero) if replicates else None)
     settings = {**settings, "force_zero": "per-test" if zero else "none", "intervals": int(replicates)}
     return Calibration.from_fit(model, fit, record, settings, list(warnings), intervals=iv)
 
 
-def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,
+def diagnose(record, model, *, seed: int = 0, settings=None, base_fit=None, candidates: bool = True,
              progress=None, parent=True, catalog=None, per_test=(), floors=None, target=None) -> Diagnosis:
     """Fit ``model`` (a Model, or a spec resolved by ``catalog``, default the
     built-in one) to ``record``, or converge ``base_fit`` further (DE from it),
@@ -423,7 +424,8 @@ def diagnose(record, model, seed: int = 0, settings=None, base_fit=None, candida
 
         keep: dict = {}
         for _ in range(MAX_BASE_ROUNDS):
-            found = refit_all(model, base_fit, record, catalog.effects, seed, settings, report, keep, per_test)
+            found = refit_all(model, base_fit, record, catalog.effects, seed=seed, settings=settings, progress=report,
+                              keep=keep, per_test=per_test)
             of_off, start = lower_base(found, model)
             if start is None or not of_off < base_fit.of * (1.0 - BASE_TOL):
                 break

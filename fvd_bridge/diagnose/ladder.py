@@ -53,14 +53,14 @@ class Ladder:
                 "noise_floor_of": self.final.floor, "wall_s": self.wall_s}
 
 
-def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = None, progress=None,
+def climb(record, model, *, seed: int = 0, settings=None, max_rungs: int | None = None, progress=None,
           catalog=None, per_test=(), target=None) -> Ladder:
     """Run the ladder from ``model`` (a Model, or a spec resolved by ``catalog``;
     ``per_test``: parameters fitted per test; ``target``: climb only on what
     exports there); returns every rung and each rung's diagnosis."""
     t0 = time.perf_counter()
     lad = Ladder()
-    diag = diagnose(record, model, seed, settings, progress=progress, parent=None, catalog=catalog,
+    diag = diagnose(record, model, seed=seed, settings=settings, progress=progress, parent=None, catalog=catalog,
                     per_test=per_test, target=target)
     lad.diagnoses.append(diag)
     lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), diag.units()))
@@ -84,7 +84,7 @@ def climb(record, model, seed: int = 0, settings=None, max_rungs: int | None = N
         # the last rung allowed ends the ladder: its candidates need no refit (whether
         # the new model is at the floor is its own diagnosis's to judge, with its own margin)
         last = max_rungs is not None and len(lad.rungs) >= max_rungs
-        diag = diagnose(record, best.model, seed, settings, base_fit=best.fit, candidates=not last,
+        diag = diagnose(record, best.model, seed=seed, settings=settings, base_fit=best.fit, candidates=not last,
                         progress=progress, parent=Parent(prev.spec, prev.of), catalog=catalog, per_test=per_test,
                         floors=prev.inputs.floors, target=target)
         lad.diagnoses.append(diag)

@@ -179,7 +179,7 @@ def arrangements(model, effects: dict) -> list[tuple]:
             if (y.arrangement_of == x.name or x.arrangement_of == y.name) and not placed_alike(model, x, y)]
 
 
-def _refit(model, record, start, base_fit, seed, settings, name, replaces, scales, progress, per_test):
+def _refit(model, record, start, *, base_fit, seed, settings, name, replaces, scales, progress, per_test):
     t0 = time.perf_counter()
     with timing.stage(f"  refit {'~' if replaces else '+'}{name}"):
         fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
@@ -193,7 +193,7 @@ def _refit(model, record, start, base_fit, seed, settings, name, replaces, scale
     return cand
 
 
-def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, progress=None,
+def refit_all(base_model, base_fit, record, effects: dict, *, seed: int, settings, progress=None,
               keep: dict | None = None, per_test=()) -> list[Candidate]:
     """Refit ``base_model`` + each effect of ``effects`` ({name: Effect}) that
     the model can take (``Model.refusal``: not already in it, not a series
@@ -219,7 +219,8 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
         model = base_model.with_effect(e)
         pt = free(model, per_test)
         start = nested_start(model, record, base_fit.names, base_fit.params, pt)
-        out.append(_refit(model, record, start, base_fit, seed, settings, name, "", scales, progress, pt))
+        out.append(_refit(model, record, start, base_fit=base_fit, seed=seed, settings=settings, name=name, replaces="",
+                        scales=scales, progress=progress, per_test=pt))
     for old, new in arrangements(base_model, effects):
         rest = base_model.without_effect(old.name)
         if rest.refusal(new):
@@ -229,7 +230,8 @@ def refit_all(base_model, base_fit, record, effects: dict, seed: int, settings, 
         given = dict(values, **{n: values[o] for o, n in zip(old.names, new.names)})
         pt = free(model, per_test)
         start = nested_start(model, record, list(given), list(given.values()), pt)
-        out.append(_refit(model, record, start, base_fit, seed, settings, new.name, old.name, scales, progress, pt))
+        out.append(_refit(model, record, start, base_fit=base_fit, seed=seed, settings=settings, name=new.name,
+                        replaces=old.name, scales=scales, progress=progress, per_test=pt))
     return out
 
 

@@ -75,7 +75,7 @@ def inside_connection(model) -> set:
     return connections | {e.name for e in model.effects if connections & set(e.inside_with)}
 
 
-def _connection(model, x, xv, xa, dt, PL, PE, pop, substeps):
+def _connection(model, x, xv, xa, dt, *, PL, PE, pop, substeps):
     """The connection (catalog.connection_force) with the element effects
     inside: (F, u, F_o, x_o, the names of the effects inside)."""
     inside = inside_connection(model)
@@ -173,7 +173,7 @@ def _composed(model, record, P, substeps, parts):
         x, xv, xa = (_checked(e, o, pop, n) for o in out)
     inside: set = set()
     if any(e.stage == "series" for e in model.effects):
-        F, u, FO, xo, inside = _connection(model, x, xv, xa, dt, PL, PE, pop, substeps)
+        F, u, FO, xo, inside = _connection(model, x, xv, xa, dt, PL=PL, PE=PE, pop=pop, substeps=substeps)
         if parts:
             rest = F
             for e in effects:  # the parallel terms inside act on the law's own motion

@@ -132,7 +132,7 @@ class CheckResult:
         return self.of <= self.bound
 
 
-def check(model, params: dict, t, d, v=None, a=None, element: bool = False, substeps: int = 1,
+def check(model, params: dict, t, d, v=None, a=None, *, element: bool = False, substeps: int = 1,
           export=None) -> CheckResult:
     """Export ``model`` with ``params`` ({name: value}) (or take ``export``, its Export), drive it with d [mm]
     at times t [s] (uniform; v [mm/s], a [mm/s^2]: np.gradient when not

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError, bound_option, option
+from ..errors import InputError, bound_option, command, option
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
@@ -53,10 +53,10 @@ def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict)
     return b
 
 
-def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
+def fit_model(model, record, *, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
               seed=0, settings=None, substeps: int = 1, on_generation=None,
               overrides: dict | None = None, start: np.ndarray | None = None,
-              mask=None, per_test=(), nested: bool = True, widen: bool = True, *,
+              mask=None, per_test=(), nested: bool = True, widen: bool = True,
               force_zero: bool = False) -> FitResult:
     """Fit ``model`` (fvd_bridge.model.Model) to ``record`` (a Record, or a
     Device: its tests together, the weighted mean of their OFs) by minimising eq. 18.
@@ -84,23 +84,29 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
         raise InputError(f"optimizer {optimizer}: settings {type(settings).__name__} belong to another optimizer "
                          f"(settings_for('{optimizer}', pop, gens) gives its own)")
     overrides = dict(overrides or {})
+    pinned = [n for n, (lo, hi) in overrides.items() if n in model.names and lo == hi]
+    if len(pinned) == len(model.names):
+        raise InputError(f"{option('--fix')}: every parameter of model {model.spec} is fixed ({', '.join(pinned)}): "
+                         f"nothing to fit; compare it on the record instead ({command('compare')})")
     t0, evals, widened, parent_of = time.perf_counter(), 0, {}, None
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
-        pfit = fit_model(model, device, bounds, optimizer, seed, settings, substeps, None, overrides, None, mask,
-                         (), True, widen, force_zero=force_zero)
+        pfit = fit_model(model, device, bounds=bounds, optimizer=optimizer, seed=seed, settings=settings,
+                         substeps=substeps, overrides=overrides, mask=mask, widen=widen, force_zero=force_zero)
         start = layout.expand(pfit.named())
         evals, widened = pfit.evaluations, dict(pfit.widened)
     elif start is None and nested and model.effects:
         parent = model.without_effect(model.effects[-1].name)
-        pfit = fit_model(parent, device, bounds, optimizer, seed, settings, substeps, None,
-                         {k: v for k, v in overrides.items() if k in parent.names}, None, mask,
-                         [n for n in per_test if n in parent.names], True, widen, force_zero=force_zero)
+        pfit = fit_model(parent, device, bounds=bounds, optimizer=optimizer, seed=seed, settings=settings,
+                         substeps=substeps, overrides={k: v for k, v in overrides.items() if k in parent.names},
+                         mask=mask, per_test=[n for n in per_test if n in parent.names], widen=widen,
+                         force_zero=force_zero)
         start = nested_start(model, device, pfit.names, pfit.params, per_test)
         evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), Parent(parent.spec, float(pfit.of))
     before, flat = None, []
     for rounds in range(WIDEN_ROUNDS + 1):
-        fit = _fit_once(model, device, layout, bounds, {**widened, **overrides}, optimizer, seed, settings,
-                        substeps, on_generation, start, mask, local=rounds > 0)
+        fit = _fit_once(model, device, layout, bounds=bounds, overrides={**widened, **overrides}, optimizer=optimizer,
+                        seed=seed, settings=settings, substeps=substeps, on_generation=on_generation, start=start,
+                        mask=mask, local=rounds > 0)
         evals += fit.evaluations
         if before is not None and not fit.of < before[0].of * (1.0 - WIDEN_GAIN):
             fit, widened, tried = before  # the optimum lies at that end: keep the fit before the widening
@@ -121,7 +127,7 @@ def fit_model(model, record, bounds: str | np.ndarray = "auto", optimizer: str =
                    test_of=test_of, zero=zero)
 
 
-def _fit_once(model, device, layout, bounds, overrides, optimizer, seed, settings, substeps, on_generation,
+def _fit_once(model, device, layout, *, bounds, overrides, optimizer, seed, settings, substeps, on_generation,
               start, mask, local: bool = False) -> FitResult:
     """One optimizer run inside fixed bounds; ``start`` is kept if the run ends
     above it.  ``local``: from ``start`` only (a widened bound's round: the

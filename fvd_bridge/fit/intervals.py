@@ -184,8 +184,8 @@ def _replicates(record, F_clean: np.ndarray, clean: Record, sigma_F: float, coun
     return [Record(record.t, d, f, v, a, record.name) for d, f, v, a in zip(D, F, V, A)]
 
 
-def intervals(model, record, params, per_test=(), bounds=None, replicates: int = REPLICATES, seed=0,
-              progress=None, of: float | None = None, *, force_zero: bool = False,
+def intervals(model, record, params, *, per_test=(), bounds=None, replicates: int = REPLICATES, seed=0,
+              progress=None, of: float | None = None, force_zero: bool = False,
               floor: float | None = None) -> Intervals:
     """Bootstrap intervals of a calibration: ``params`` (the fit's columns) of
     ``model`` on ``record`` (a Record or a Device); ``bounds`` (n, 2): the

@@ -152,8 +152,8 @@ def run_local(evaluate, residuals, n: int, rng: np.random.Generator, s: LocalSet
     found = _settle(evaluate, residuals, n, rng, found, stepped, on_generation)
     two_basins = len(ends) > 1 and max(ends) > min(ends) * (1.0 + DOUBT)  # there may be a third, lower
     if s.always_check or two_basins:
-        found = found.then(_check(evaluate, residuals, n, rng, s.search, on_generation, found.x, found.of,
-                                  stepped))
+        found = found.then(_check(evaluate, residuals, n, rng, s=s.search, on_generation=on_generation, x=found.x,
+                                  f=found.of, stepped=stepped))
     return found
 
 
@@ -244,8 +244,8 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
 
     def solve(x, shares, scale, callback=None):  # soft-L1 towards L1: each solve starts where the last ended
         for share in shares:
-            x, status, _ = least_squares_soft_l1(fun_jac, x, lower, upper, share * scale, s.max_nfev, 1e-10,
-                                                 1e-10, 1e-10, callback)
+            x, status, _ = least_squares_soft_l1(fun_jac, x, lower, upper, share * scale, max_nfev=s.max_nfev,
+                                                 xtol=1e-10, ftol=1e-10, gtol=1e-10, callback=callback)
             statuses.append(int(status))
             x = np.clip(x, 0.0, 1.0)
         return x
@@ -288,7 +288,7 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     return Search(best_x, best_of, tuple(history), count.n, stop), ends
 
 
-def _check(evaluate, residuals, n, rng, s: DESettings, on_generation, x, f, stepped=()) -> Search:
+def _check(evaluate, residuals, n, rng, *, s: DESettings, on_generation, x, f, stepped=()) -> Search:
     """The global check of a local optimum x (OF f): DE seeded with it,
     stopped when nothing better appears; a better point found there is
     solved locally again (and along the stepped coordinates' lines)."""

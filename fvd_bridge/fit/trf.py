@@ -63,7 +63,7 @@ def normal_form(r: np.ndarray, J: np.ndarray, f_scale: float):
     return Raug[:-1, :-1], Raug[:-1, -1]
 
 
-def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, max_nfev: int, xtol: float = 1e-8,
+def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, *, max_nfev: int, xtol: float = 1e-8,
                           ftol: float = 1e-8, gtol: float = 1e-8, callback=None):
     """Minimise 0.5 sum rho(r(x)) over lb <= x <= ub from x0.  ``fun_jac(x)
     -> (r (m,), J (m, n))`` (the residuals must be finite at x0);

@@ -156,7 +156,7 @@ def _exceeded(case: Case, cal=None) -> list:
     return out
 
 
-def run_cases(building, motion, calibrations, stroke_limit=None, force_limit=None, dt_analysis=None,
+def run_cases(building, motion, calibrations, *, stroke_limit=None, force_limit=None, dt_analysis=None,
               progress=None, per_story: int = 1, scale: float = 1.0, rank_on=None,
               target_damping: float | None = None, design_drift: float | None = None, bounds=None) -> list[Case]:
     """The bare frame, then one analysis per calibration (fvd_bridge.calibration.Calibration).
@@ -290,7 +290,7 @@ def _cosimulated(building, motion, cal, scale: float, dt_analysis=None, free_vib
     h = min(float(dt_analysis or motion.dt), COSIM_STEP)
     with tempfile.TemporaryDirectory(prefix="fvd_frame_fmu-") as folder:
         fmu = cal.to_fmu(os.path.join(folder, "damper.fmu"))
-        result, _ = cosimulate_frame(building, motion, fmu, "explicit", h, free_vibration=free_vibration,
+        result, _ = cosimulate_frame(building, motion, fmu, 'explicit', dt_analysis=h, free_vibration=free_vibration,
                                      force_scale=scale)
     return result
 

@@ -195,7 +195,7 @@ class CosimStats:
     wall_s: float
 
 
-def solve_damper_forces(fmus, states, t, h, d0, v0, F0, S_d, S_v, tol_F=1e-6, newton_iterations=6,
+def solve_damper_forces(fmus, states, t, h, *, d0, v0, F0, S_d, S_v, tol_F=1e-6, newton_iterations=6,
                         max_sweeps=50):
     """The damper forces F [kN] with F_i = Phi_i(F) (see the module
     docstring): FMU i rolled back to states[i] and stepped over [t, t + h]
@@ -283,7 +283,7 @@ def probe_flexibility(dampers: FrameDampers, checkpoint: NodeCheckpoint, stepper
     return S_d, S_v
 
 
-def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_analysis: float | None = None,
+def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", *, dt_analysis: float | None = None,
                      free_vibration: float | None = 0.0, use_velocity: bool = True, tol_d: float = 1e-6,
                      tol_F: float = 1e-6, max_iterations: int = 10,
                      force_scale: float = 1.0) -> tuple[FrameResult, CosimStats]:
@@ -329,8 +329,8 @@ def cosimulate_frame(building, motion, fmu_path, scheme: str = "iterative", dt_a
             S_d = S_v = None
             if scheme == "iterative":
                 S_d, S_v = probe_flexibility(dampers, checkpoint, stepper, h)
-            coupling = _Coupling(scheme, fmus, dampers, checkpoint, stepper, h, S_d, S_v, tol_d, tol_F,
-                                 max_iterations)
+            coupling = _Coupling(scheme, fmus, dampers, checkpoint, stepper, h, S_d=S_d, S_v=S_v, tol_d=tol_d,
+                                 tol_F=tol_F, max_iterations=max_iterations)
             steps = step_through(model.floor_nodes, b.elevations[-1], excitation.steps(free_vibration), h, n,
                                  coupling)
             wall = time.perf_counter() - wall
@@ -352,7 +352,7 @@ class _Coupling:
     communication step of the scheme from t; returns (d, F) of the dampers
     at t + h, or None when OpenSees failed.  Counts the OpenSees solves."""
 
-    def __init__(self, scheme, fmus, dampers, checkpoint, stepper, h, S_d, S_v, tol_d, tol_F, max_iterations):
+    def __init__(self, scheme, fmus, dampers, checkpoint, stepper, h, *, S_d, S_v, tol_d, tol_F, max_iterations):
         self.scheme, self.fmus, self.dampers, self.checkpoint, self.stepper = scheme, fmus, dampers, checkpoint, stepper
         self.h, self.S_d, self.S_v = h, S_d, S_v
         self.tol_d, self.tol_F, self.max_iterations = tol_d, tol_F, max_iterations
@@ -369,8 +369,9 @@ class _Coupling:
                 self.F = np.array([f.step(t, h, d[i], v[i]) for i, f in enumerate(self.fmus)])
         else:
             ok, used, self.F, accepted = _iterative_step(self.fmus, self.dampers, self.checkpoint, self.stepper,
-                                                         t, h, self.F, self.S_d, self.S_v, self.tol_d,
-                                                         self.tol_F, self.max_iterations)
+                                                         t, h, F_prev=self.F, S_d=self.S_d, S_v=self.S_v,
+                                                         tol_d=self.tol_d, tol_F=self.tol_F,
+                                                         max_iterations=self.max_iterations)
             self.unconverged += not accepted
             if ok:
                 d, _ = self.dampers.read()
@@ -379,7 +380,7 @@ class _Coupling:
         return (d, self.F) if ok else None
 
 
-def _iterative_step(fmus, dampers, checkpoint, stepper, t, h, F_prev, S_d, S_v, tol_d, tol_F, max_iterations):
+def _iterative_step(fmus, dampers, checkpoint, stepper, t, h, *, F_prev, S_d, S_v, tol_d, tol_F, max_iterations):
     """One iterative communication step (module docstring): returns (OpenSees
     step converged, OpenSees solves, damper forces F(t + h), tol_d met)."""
     checkpoint.save()
@@ -392,7 +393,7 @@ def _iterative_step(fmus, dampers, checkpoint, stepper, t, h, F_prev, S_d, S_v, 
         d_ref, v_ref = dampers.read()
         solves, accepted = 1, False
         while True:
-            F, _ = solve_damper_forces(fmus, states, t, h, d_ref, v_ref, F_ref, S_d, S_v, tol_F)
+            F, _ = solve_damper_forces(fmus, states, t, h, d0=d_ref, v0=v_ref, F0=F_ref, S_d=S_d, S_v=S_v, tol_F=tol_F)
             d_fmu = d_ref + S_d @ (F - F_ref)
             checkpoint.restore()
             dampers.set_forces(F)

@@ -138,7 +138,7 @@ def _bouc_wen_force(d, v, dt, c, substeps, lanes):
     return _travel_force(d, v, dt, c, substeps, lanes, _bouc_wen_setup, _bouc_wen_advance)
 
 
-def bouc_wen_force(d, v, dt, C, K, alpha, A, beta, gamma, substeps=1):
+def bouc_wen_force(d, v, dt, *, C, K, alpha, A, beta, gamma, substeps=1):
     """Bouc-Wen element (n = 1, ``steps.bouc_wen_step``) + viscous:
     ``steps.bouc_wen_constants`` (paper eq. 8).  Parameters are arrays of
     length pop (or scalars): C [kN/(mm/s)], K [kN/mm], alpha [-], A [-],
@@ -148,7 +148,8 @@ def bouc_wen_force(d, v, dt, C, K, alpha, A, beta, gamma, substeps=1):
 
 def law6(d, v, dt, P, substeps=1):
     """Bouc-Wen + viscous with A = n = 1, beta = gamma (``steps.law6_bouc_wen``)."""
-    return bouc_wen_force(d, v, dt, *law6_bouc_wen.py_func(*P.T), substeps=substeps)
+    C, K, alpha, A, beta, gamma = law6_bouc_wen.py_func(*P.T)
+    return bouc_wen_force(d, v, dt, C=C, K=K, alpha=alpha, A=A, beta=beta, gamma=gamma, substeps=substeps)
 
 
 @scalar

@@ -220,7 +220,7 @@ def paper(amplitude: float = PAPER["amplitude"], velocity: float = PAPER["veloci
 
 
 def acceptance(levels=ACCEPTANCE_LEVELS, vmax: float = 500.0, amplitude: float = 20.0,
-               cycles: float = 3, dt: float = 0.002, max_period: float = 2.0, taper: float = 0.5,
+               *, cycles: float = 3, dt: float = 0.002, max_period: float = 2.0, taper: float = 0.5,
                rest: float = 0.1, pause: float = 0.2) -> SineProtocol:
     """Acceptance test: ``cycles`` cycles at each velocity level (fraction of
     ``vmax`` [mm/s]) at a fixed ``amplitude`` [mm], so the frequency changes

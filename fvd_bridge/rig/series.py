@@ -58,7 +58,7 @@ def _atomic_yaml(data: dict, path: str) -> None:
         yaml.safe_dump(data, fh, sort_keys=False, default_flow_style=None)
 
 
-def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None = None, seed=0,
+def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None = None, *, seed=0,
                  with_velocity: bool = False, scatter: dict | None = None,
                  substeps: int | None = None, extra: dict | None = None) -> list[str]:
     """Simulate every device, then write DEVICE.csv (t,d,F[,v]; kN, mm, s) with

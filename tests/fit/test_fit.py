@@ -212,9 +212,9 @@ def test_starts_in_two_basins_call_the_global_check(monkeypatch):
     calls = []
     real = local._check
 
-    def spy(*args):
-        calls.append(args[-1])
-        return real(*args)
+    def spy(*args, **kwargs):
+        calls.append(kwargs["stepped"])
+        return real(*args, **kwargs)
 
     monkeypatch.setattr(local, "_check", spy)
     evaluate = lambda X: np.abs(_two_wells(X)).sum(axis=1)  # noqa: E731

@@ -64,3 +64,18 @@ def test_start_values_and_names_that_do_not_exist(law9_record, tmp_path):
         fb.calibrate(law9_record, "9", intervals=0, start={"K": 1.0})
     with pytest.raises(ValueError, match=r"^fixed=\{'K': 1\.0\}: model 9 has no parameter 'K'"):
         fb.calibrate(law9_record, "9", intervals=0, fixed={"K": 1.0})
+
+
+def test_every_parameter_fixed_is_refused_in_one_line(law9_record, tmp_path):
+    """Nothing left to fit: one line naming the fixed parameters and compare as the way, from
+    Python and from the command line (exit 2, nothing written), before any fit runs."""
+    with pytest.raises(fb.InputError, match=r"every parameter of model 1 is fixed \(C\): nothing to fit"):
+        fb.calibrate(law9_record, "1", fixed={"C": 0.5}, intervals=0)
+    path = tmp_path / "r.csv"
+    np.savetxt(path, np.column_stack([law9_record.t, law9_record.d, law9_record.F]), delimiter=",",
+               header="t,d,F", comments="")
+    from fvd_bridge import cli
+
+    assert cli.main(["calibrate", str(path), "--laws", "1", "--fix", "1:C=0.5", "--out", str(tmp_path / "o"),
+                     "--quiet"]) == 2
+    assert not (tmp_path / "o").exists()
