@@ -88,7 +88,7 @@ from scipy.stats import chi2
 from fvd_bridge.diagnose import diagnose
 from fvd_bridge.records import Record, RecordWarning, read_record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device, acceptance, paper, simulate
+from fvd_bridge.rig import VirtualDamper, acceptance, paper, simulate
 
 #: the device every effect is planted in: law 2, C [kN/(mm/s)^alpha], alpha [-]
 C, ALPHA = 40.0, 0.3
@@ -141,7 +141,7 @@ def exact_record(effect: str, value: float, protocol: str) -> dict:
     """The rig's noise-free t [s], d [mm], F [kN] of the device with ``effect``
     at ``value`` (FREE: no effect) under ``protocol``."""
     kw = {} if effect == FREE else {SWEEPS[effect].key: value}
-    rec = simulate(Device(C=C, alpha=ALPHA, **kw), PROTOCOLS[protocol](), None, name="exact")
+    rec = simulate(VirtualDamper(C=C, alpha=ALPHA, **kw), PROTOCOLS[protocol](), None, name="exact")
     return {"t": rec.t, "d": rec.d, "F": rec.F}
 
 

@@ -33,7 +33,7 @@ from fvd_bridge.fit.intervals import REPLICATES, intervals
 from fvd_bridge.records import read_record
 from fvd_bridge.records.device import Device
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device as RigDevice
+from fvd_bridge.rig import VirtualDamper
 from fvd_bridge.rig import Noise, paper, simulate
 
 LEVELS = ((10.0, 50.0), (20.0, 200.0), (30.0, 450.0))
@@ -50,7 +50,7 @@ def best_of(repeat: int, fn):
 
 
 def lab_tests(folder: str) -> list:
-    dev = RigDevice(C=40.0, alpha=0.3, Ks=120.0, friction=12.0, name="sn101")
+    dev = VirtualDamper(C=40.0, alpha=0.3, Ks=120.0, friction=12.0, name="sn101")
     out = []
     for k, (amp, vel) in enumerate(LEVELS):
         rec = simulate(dev, paper(amplitude=amp, velocity=vel, cycles=3, dt=0.002), Noise(0.5, 0.005), seed=k,

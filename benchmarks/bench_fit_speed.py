@@ -44,11 +44,11 @@ from fvd_bridge.catalog import parse_model
 from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, objective
 from fvd_bridge.records import read_record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device, Noise, paper, simulate
+from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
 
 def lab_record():
-    rec = simulate(Device(C=45.0, alpha=0.3, Ks=150.0, name="sn150"), paper(), Noise(1.0, 0.005), seed=0)
+    rec = simulate(VirtualDamper(C=45.0, alpha=0.3, Ks=150.0, name="sn150"), paper(), Noise(1.0, 0.005), seed=0)
     folder = tempfile.mkdtemp(prefix="fvd_bench_")
     path = os.path.join(folder, "sn150.csv")
     write_csv(rec, path)

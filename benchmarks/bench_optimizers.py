@@ -36,15 +36,15 @@ from fvd_bridge.catalog import parse_model
 from fvd_bridge.records.cycles import force_noise
 from fvd_bridge.records import read_record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import DEMO_NOISE, Device, Noise, acceptance, demo_series, paper, simulate
+from fvd_bridge.rig import DEMO_NOISE, VirtualDamper, Noise, acceptance, demo_series, paper, simulate
 
 SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "devices"
 #: the broad check's rig devices: each effect once, on a law-2 dashpot
-BROAD_DEVICES = (Device(C=45, alpha=0.3, friction=12, name="seal"), Device(C=45, alpha=0.3, gap=1.0, name="gap"),
-                 Device(C=45, alpha=0.3, Ks=60, name="soft"),
-                 Device(C=45, alpha=0.6, heating=1.0, asymmetry=0.1, name="hot"),
-                 Device(C=20, alpha=0.15, Kp=2.0, preload=10, name="accumulator"),
-                 Device(C=45, alpha=0.3, mass=2000, Ks=200, name="mass"))
+BROAD_DEVICES = (VirtualDamper(C=45, alpha=0.3, friction=12, name="seal"), VirtualDamper(C=45, alpha=0.3, gap=1.0, name="gap"),
+                 VirtualDamper(C=45, alpha=0.3, Ks=60, name="soft"),
+                 VirtualDamper(C=45, alpha=0.6, heating=1.0, asymmetry=0.1, name="hot"),
+                 VirtualDamper(C=20, alpha=0.15, Kp=2.0, preload=10, name="accumulator"),
+                 VirtualDamper(C=45, alpha=0.3, mass=2000, Ks=200, name="mass"))
 
 OPTIMIZERS = ("ga", "ga+polish", "de", "local+de", "local")
 

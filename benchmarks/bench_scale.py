@@ -33,7 +33,7 @@ from fvd_bridge.campaign.resume import Resumable
 from fvd_bridge.campaign.runner import CampaignSettings
 from fvd_bridge.campaign.store import UnitStore
 from fvd_bridge.campaign.tasks import make_tasks, run_task
-from fvd_bridge.rig import Device, Noise, paper, production_series, simulate_series
+from fvd_bridge.rig import VirtualDamper, Noise, paper, production_series, simulate_series
 
 
 def _burn(n: int) -> int:
@@ -102,7 +102,7 @@ def main() -> None:
     ap.add_argument("--gens", type=int, default=30)
     ap.add_argument("--stall", type=int, default=10)
     args = ap.parse_args()
-    nominal = Device(C=45.4, alpha=0.3, Ks=150.0, friction=3.0)
+    nominal = VirtualDamper(C=45.4, alpha=0.3, Ks=150.0, friction=3.0)
     t0 = time.perf_counter()
     devices = production_series(args.devices, nominal, {"C": 0.05, "alpha": 0.02}, seed=0)
     records = simulate_series(devices, paper(), Noise(1.0, 0.005), seed=0)

@@ -59,9 +59,9 @@ EFFECTS = [
 def main() -> int:
     from fvd_bridge import calibrate
     from fvd_bridge.catalog import catalog
-    from fvd_bridge.rig import Device, Noise, paper, simulate
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
-    rec = simulate(Device(C=45.4, alpha=0.3, Ks=112.5), paper(cycles=3), Noise(1.0, 0.005), seed=3, name="oil")
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3, Ks=112.5), paper(cycles=3), Noise(1.0, 0.005), seed=3, name="oil")
     cal = calibrate(rec, catalog([__file__]).model("2+bulk_modulus"), runs=1, seed=0, plugins=[__file__])
     B = cal.named()["bulk_modulus.B"]
     print(f"law 2 + oil column: OF {cal.of:.4f}, C {cal.named()['C']:.4g}, alpha {cal.named()['alpha']:.3g}, "

@@ -70,10 +70,10 @@ def main() -> int:
     from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
     from fvd_bridge.catalog import catalog
     from fvd_bridge.records import Record
-    from fvd_bridge.rig import Device, Noise, acceptance, simulate
+    from fvd_bridge.rig import VirtualDamper, Noise, acceptance, simulate
 
     cat = catalog([__file__])  # exactly what --plugin does
-    rec = simulate(Device(C=45.4, alpha=0.3), acceptance(dt=0.005, cycles=2), Noise(1.0), seed=3,
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3), acceptance(dt=0.005, cycles=2), Noise(1.0), seed=3,
                    name="stribeck_demo")
     extra = stribeck_force(np.array([[15.0]]), rec.t, rec.d[None, :], rec.v[None, :], rec.a[None, :])[0]
     rec = Record(rec.t, rec.d, rec.F + extra, rec.v, rec.a, name=rec.name, provenance=rec.provenance)

@@ -58,9 +58,9 @@ def main(argv=None) -> int:
     from fvd_bridge.frames.compare import run_cases
     from fvd_bridge.records.motions import read_motion
     from fvd_bridge.frames.outputs import format_frame_table, write_frame_outputs
-    from fvd_bridge.rig import Device, Noise, paper, production_series, write_series
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, production_series, write_series
 
-    nominal = Device(C=45.4, alpha=0.3, Ks=150.0, friction=3.0)
+    nominal = VirtualDamper(C=45.4, alpha=0.3, Ks=150.0, friction=3.0)
     devices = production_series(args.devices, nominal, {"C": 0.05, "alpha": 0.03, "Ks": 0.1}, seed=7,
                                 prefix="fvd")
     paths = write_series(os.path.join(args.out, "records"), devices, paper(cycles=3 if args.quick else 10),

@@ -3,7 +3,7 @@ sidecar (as ``fvd-bridge rig`` writes them) and read back by fvd_bridge's
 reader, so that v and a are derived from the noisy displacement by the tool,
 as they are for a lab record (not the rig's exact v and a).
 
-    rec = lab_record(Device(C=45.4, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=0, tmp_path=tmp_path)
+    rec = lab_record(VirtualDamper(C=45.4, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=0, tmp_path=tmp_path)
     rec = lab_from_forces(t, d, F, 1.0, 0.005, seed=0, tmp_path=tmp_path, name="law9")
 
 Noise is drawn as ``fvd_bridge.rig.simulate`` draws it (force first, then
@@ -22,7 +22,7 @@ import numpy as np
 
 from fvd_bridge.records import Record, RecordWarning, read_record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device, Noise, simulate
+from fvd_bridge.rig import VirtualDamper, Noise, simulate
 
 #: lab-like defaults: force noise [kN], displacement noise [mm]
 FORCE_NOISE, DISP_NOISE = 1.0, 0.005
@@ -32,15 +32,15 @@ def lab_record(source, protocol=None, force_noise: float = FORCE_NOISE, disp_noi
                seed=0, tmp_path=None, name: str | None = None, opts=None) -> Record:
     """A lab-like record of ``source`` under ``protocol``.
 
-    ``source``: a rig ``Device`` (simulated under ``protocol``), or the dict
+    ``source``: a rig ``VirtualDamper`` (simulated under ``protocol``), or the dict
     of ``fvd_bridge.rig.trace`` (its exact t, d, F; ``protocol`` unused).
     ``tmp_path``: the directory the CSV and its sidecar go to (pytest's
     tmp_path); ``opts``: ReadOptions for reading it back (e.g. a fixed
     --sg-window). Reading must give no RecordWarning.
     """
-    if isinstance(source, Device):
+    if isinstance(source, VirtualDamper):
         if protocol is None:
-            raise ValueError("lab_record: a Device needs a protocol")
+            raise ValueError("lab_record: a VirtualDamper needs a protocol")
         exact = simulate(source, protocol, None, name=name or source.name)
         truth = {k: exact.provenance[k] for k in ("rig", "protocol")}
         return lab_from_forces(exact.t, exact.d, exact.F, force_noise, disp_noise, seed, tmp_path,
@@ -48,7 +48,7 @@ def lab_record(source, protocol=None, force_noise: float = FORCE_NOISE, disp_noi
     if isinstance(source, dict) and {"t", "d", "F"} <= set(source):
         return lab_from_forces(source["t"], source["d"], source["F"], force_noise, disp_noise, seed, tmp_path,
                                name=name or "trace", truth={"source": "rig trace"}, opts=opts)
-    raise TypeError("lab_record: source must be a fvd_bridge.rig.Device or a rig trace dict")
+    raise TypeError("lab_record: source must be a fvd_bridge.rig.VirtualDamper or a rig trace dict")
 
 
 def lab_from_forces(t, d_exact, F_exact, force_noise: float = FORCE_NOISE, disp_noise: float = DISP_NOISE,

@@ -5,7 +5,7 @@ The rig block of a campaign file (kN, mm, s; every key optional):
 
     rig:
       devices: 200                                  # how many
-      nominal: {C: 45.4, alpha: 0.3, Ks: 150}       # fvd_bridge.rig.Device parameters
+      nominal: {C: 45.4, alpha: 0.3, Ks: 150}       # fvd_bridge.rig.VirtualDamper parameters
       scatter: {C: 0.05, alpha: 0.02}               # relative std per parameter, or one number for all
       protocol: paper                               # paper | acceptance | history:FILE.csv, or
                                                     # {name: paper, cycles: 3, amplitude: 40, velocity: 500, dt: 0.002}
@@ -20,7 +20,7 @@ import json
 import os
 
 from ..errors import InputError
-from ..rig import PARAMETERS, TRUTH_FILE, Device, Noise, from_spec, production_series, read_truth, write_series
+from ..rig import PARAMETERS, TRUTH_FILE, VirtualDamper, Noise, from_spec, production_series, read_truth, write_series
 
 RIG_KEYS = ("devices", "nominal", "scatter", "protocol", "noise", "seed")
 PROTOCOL_KEYS = ("name", "amplitude", "velocity", "cycles", "dt")
@@ -55,7 +55,7 @@ def rig_spec(spec, where: str) -> dict:
     nominal = spec.get("nominal") or {}
     if not isinstance(nominal, dict):
         raise InputError(f"{where}: key 'rig.nominal': expected a mapping of rig parameters")
-    nominal = Device.from_dict(dict(nominal), where=f"{where}: rig.nominal").parameters()
+    nominal = VirtualDamper.from_dict(dict(nominal), where=f"{where}: rig.nominal").parameters()
     scatter = spec.get("scatter") or {}
     if not isinstance(scatter, dict):
         scatter = {k: scatter for k in PARAMETERS if k != "v_friction"}
@@ -90,7 +90,7 @@ def _build(spec: dict, where: str):
     name = proto.pop("name")
     try:
         protocol = from_spec(name, **{k: float(v) for k, v in proto.items()})
-        devices = production_series(spec["devices"], Device(**spec["nominal"]), spec["scatter"], spec["seed"])
+        devices = production_series(spec["devices"], VirtualDamper(**spec["nominal"]), spec["scatter"], spec["seed"])
         noise = Noise(**spec["noise"])
     except InputError as exc:
         raise InputError(f"{where}: rig: {exc}") from None
@@ -100,8 +100,8 @@ def _build(spec: dict, where: str):
 
 
 def rig_nominal(spec: dict):
-    """The nominal Device of a checked rig block."""
-    return Device(**spec["nominal"])
+    """The nominal VirtualDamper of a checked rig block."""
+    return VirtualDamper(**spec["nominal"])
 
 
 def rig_records(spec: dict, out: str, where: str) -> list[str]:

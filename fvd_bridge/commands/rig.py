@@ -6,12 +6,12 @@ import math
 
 from ..errors import InputError
 from ..io.staging import check_output
-from ..rig import (DEMO_NOISE, DEMO_SCATTER, PARAMETERS, Device, Noise, demo_series, from_spec, production_series,
+from ..rig import (DEMO_NOISE, DEMO_SCATTER, PARAMETERS, VirtualDamper, Noise, demo_series, from_spec, production_series,
                    write_series)
 from ..rig.device import ARRANGEMENTS
 from ..rig.simulate import DISPLACEMENT_NOISE
 
-#: CLI flag -> Device field
+#: CLI flag -> VirtualDamper field
 FLAGS = {"C": "C", "alpha": "alpha", "Ks": "Ks", "friction": "friction", "v_friction": "v_friction",
          "heating": "heating", "gap": "gap", "asymmetry": "asymmetry", "Kp": "Kp",
          "preload": "preload", "mass": "mass"}
@@ -138,7 +138,7 @@ def run(args) -> int:
         disp = DEMO_NOISE["displacement"] if args.disp_noise is None else _float("disp-noise", args.disp_noise)
     else:
         n = _int("devices", args.devices, 1) if args.devices is not None else 1
-        nominal = Device(**params, **({"arrangement": args.arrangement} if args.arrangement else {}))
+        nominal = VirtualDamper(**params, **({"arrangement": args.arrangement} if args.arrangement else {}))
         devices = production_series(n, nominal, scatter, seed)
         force = 0.0 if args.noise is None else _float("noise", args.noise)
         disp = DISPLACEMENT_NOISE if args.disp_noise is None else _float("disp-noise", args.disp_noise)

@@ -1,13 +1,13 @@
 """The virtual test rig: virtual FVDs with known physics, protocols, noise.
 
-A Device holds the true physical parameters (orifice C, alpha; series
+A VirtualDamper holds the true physical parameters (orifice C, alpha; series
 stiffness, seal friction, heating, pin gap, asymmetry, accumulator stiffness
 and preload, moving mass); ``simulate`` integrates it accurately under the
 analytic motion of a Protocol and returns a Record; ``write_series`` writes
 lab-like CSVs and truth.yaml. Units: kN, mm, s (mass kg, energy MJ).
 """
 
-from .device import (DEMO_NOISE, DEMO_NOMINAL, DEMO_SCATTER, PARAMETERS, Device, demo_series,
+from .device import (DEMO_NOISE, DEMO_NOMINAL, DEMO_SCATTER, PARAMETERS, VirtualDamper, demo_series,
                      production_series)
 from .energy import cycle_bounds, energy_per_cycle, loop_area, orifice_energy_per_cycle
 from .protocols import (HistoryProtocol, Protocol, SineProtocol, SineSegment, acceptance, from_spec,
@@ -17,7 +17,7 @@ from .simulate import Noise, simulate, trace
 
 __all__ = [
     "DEMO_NOISE", "DEMO_NOMINAL", "DEMO_SCATTER", "PARAMETERS", "TRUTH_FILE",
-    "Device", "HistoryProtocol", "Noise", "Protocol", "SineProtocol", "SineSegment",
+    "VirtualDamper", "HistoryProtocol", "Noise", "Protocol", "SineProtocol", "SineSegment",
     "acceptance", "cycle_bounds", "demo_series", "energy_per_cycle", "from_spec", "history",
     "loop_area", "orifice_energy_per_cycle", "paper", "production_series", "read_history",
     "read_truth", "simulate", "simulate_series", "trace", "truth_dict", "write_series",

@@ -67,7 +67,7 @@ def _bad(name, value, rule):
 
 
 @dataclass(frozen=True)
-class Device:
+class VirtualDamper:
     """True parameters of one virtual damper (see the module table for units).
 
     Measured force [kN], positive in tension (y the displacement after the
@@ -146,14 +146,14 @@ class Device:
         return {"name": self.name, **self.parameters()}
 
     @classmethod
-    def from_dict(cls, data: dict, where: str = "device") -> "Device":
+    def from_dict(cls, data: dict, where: str = "device") -> "VirtualDamper":
         unknown = set(data) - set(PARAMETERS) - {"name", "arrangement"}
         if unknown:
             raise InputError(f"{where}: unknown rig parameter '{sorted(unknown)[0]}' "
                              f"(known: {', '.join(PARAMETERS)})")
         return cls(**data)
 
-    def with_(self, **changes) -> "Device":
+    def with_(self, **changes) -> "VirtualDamper":
         """A copy with some parameters changed (checked again)."""
         return replace(self, **changes)
 
@@ -173,8 +173,8 @@ def _check_scatter(scatter: dict) -> dict:
     return out
 
 
-def production_series(n: int, nominal: Device, scatter: dict | None = None, seed: int | None = 0,
-                      prefix: str = "device") -> list[Device]:
+def production_series(n: int, nominal: VirtualDamper, scatter: dict | None = None, seed: int | None = 0,
+                      prefix: str = "device") -> list[VirtualDamper]:
     """``n`` devices with manufacturing scatter around ``nominal``.
 
     ``scatter`` maps a parameter to its relative standard deviation s:
@@ -207,12 +207,12 @@ def production_series(n: int, nominal: Device, scatter: dict | None = None, seed
                 p[key] = p[key] * (1.0 + s * zi)
         p["alpha"] = min(max(p["alpha"], 0.01), 2.0)
         p["asymmetry"] = min(max(p["asymmetry"], -0.95), 0.95)
-        out.append(Device(**p, name=f"{prefix}_{i + 1:02d}"))
+        out.append(VirtualDamper(**p, name=f"{prefix}_{i + 1:02d}"))
     return out
 
 
 #: nominal effects of the demo series (a 300 kN class device, paper section 3)
-DEMO_NOMINAL = Device(C=292.0 / 500.0 ** 0.3, alpha=0.3, Ks=150.0, friction=3.0, v_friction=1.0,
+DEMO_NOMINAL = VirtualDamper(C=292.0 / 500.0 ** 0.3, alpha=0.3, Ks=150.0, friction=3.0, v_friction=1.0,
                       heating=0.10, gap=0.10, asymmetry=0.015, Kp=0.10, preload=1.5, mass=40.0)
 #: manufacturing scatter of the demo series (relative standard deviations)
 DEMO_SCATTER = {"alpha": 0.02, "Ks": 0.20, "friction": 0.15, "heating": 0.20, "gap": 0.20,
@@ -221,7 +221,7 @@ DEMO_SCATTER = {"alpha": 0.02, "Ks": 0.20, "friction": 0.15, "heating": 0.20, "g
 DEMO_NOISE = {"force": 1.0, "displacement": 0.005}
 
 
-def demo_series(seed: int | None = 0, n: int = 5) -> list[Device]:
+def demo_series(seed: int | None = 0, n: int = 5) -> list[VirtualDamper]:
     """Five devices like the paper's Tables 1-2: 300 kN class, alpha about 0.3,
     orifice forces at 500 mm/s spread evenly over 265..325 kN (C set per device
     from its drawn alpha), Ks about 150 kN/mm, friction about 3 kN, heating

@@ -1,6 +1,6 @@
 """A virtual device made of a catalog model (any law with effects): friction
 and hysteretic devices (laws 6, 8, 9) behind a contact gap, for instance,
-which the orifice ``Device`` does not cover.
+which the orifice ``VirtualDamper`` does not cover.
 
 The model runs on the protocol's analytic motion sampled ``oversample``
 times finer than the output (its own sub-steps on top), and the output keeps

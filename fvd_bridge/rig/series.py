@@ -11,7 +11,7 @@ from .._version import __version__
 from ..errors import InputError
 from ..io.staging import atomic_file, check_output, staged_dir
 from ..records.writers import write_csv
-from .device import PARAMETERS, Device
+from .device import PARAMETERS, VirtualDamper
 from .protocols import Protocol
 from .simulate import Noise, simulate
 
@@ -97,7 +97,7 @@ def write_series(out_dir: str, devices, protocol: Protocol, noise: Noise | None 
 
 def read_truth(path: str) -> dict:
     """Load truth.yaml (a file or its directory): the dict as written, with
-    'devices' turned into Device objects and 'files' their full paths."""
+    'devices' turned into VirtualDamper objects and 'files' their full paths."""
     if os.path.isdir(path):
         path = os.path.join(path, TRUTH_FILE)
     if not os.path.exists(path):
@@ -110,6 +110,6 @@ def read_truth(path: str) -> dict:
         raise InputError(f"{path}: not a rig truth file (schema_version {SCHEMA_VERSION} expected)")
     entries = data.get("devices") or []
     base = os.path.dirname(os.path.abspath(path))
-    data["devices"] = [Device.from_dict({"name": e["name"], **e["parameters"]}, where=path) for e in entries]
+    data["devices"] = [VirtualDamper.from_dict({"name": e["name"], **e["parameters"]}, where=path) for e in entries]
     data["files"] = [os.path.join(base, e["file"]) for e in entries]
     return data

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..records import Record
-from .device import Device
+from .device import VirtualDamper
 from .integrator import STAGE_C, integrate_maxwell
 from .protocols import Protocol
 
@@ -211,7 +211,7 @@ def _grid(protocol: Protocol, n_sub: int, events: np.ndarray):
     return base, idx, ts
 
 
-def _auto_substeps(device: Device, vpeak: float, dt: float) -> int:
+def _auto_substeps(device: VirtualDamper, vpeak: float, dt: float) -> int:
     """Steps per sample step so that h Ks dv_o/dS stays near STIFF_TARGET."""
     if device.rigid:
         return SUBSTEPS_RIGID
@@ -225,7 +225,7 @@ def _auto_substeps(device: Device, vpeak: float, dt: float) -> int:
 
 # ------------------------------------------------------------------ simulate
 
-def orifice_force(v_o: np.ndarray, device: Device, hf) -> np.ndarray:
+def orifice_force(v_o: np.ndarray, device: VirtualDamper, hf) -> np.ndarray:
     """F_o = hf C A sign(v_o)|v_o|^alpha [kN], A = 1 +- r (tension/compression)."""
     F = device.C * np.sign(v_o) * np.abs(v_o) ** device.alpha
     if device.asymmetry != 0.0:
@@ -235,7 +235,7 @@ def orifice_force(v_o: np.ndarray, device: Device, hf) -> np.ndarray:
     return F
 
 
-def trace(device: Device, protocol: Protocol, substeps: int | None = None) -> dict:
+def trace(device: VirtualDamper, protocol: Protocol, substeps: int | None = None) -> dict:
     """Noise-free simulation with every internal quantity, at the sample times.
 
     Keys (arrays): t [s], d, v, a (imposed, exact) [mm, mm/s, mm/s^2];
@@ -247,8 +247,8 @@ def trace(device: Device, protocol: Protocol, substeps: int | None = None) -> di
     F_inertia (m a_y 1e-6), F (the measured force) [kN]; 'substeps' (int)
     and 'nodes' (number of integration nodes).
     """
-    if not isinstance(device, Device):
-        raise TypeError("device must be a fvd_bridge.rig.Device")
+    if not isinstance(device, VirtualDamper):
+        raise TypeError("device must be a fvd_bridge.rig.VirtualDamper")
     ts = protocol.times()
     if ts.size < 2:
         raise InputError(f"protocol {protocol.name}: fewer than 2 samples")
@@ -316,7 +316,7 @@ def trace(device: Device, protocol: Protocol, substeps: int | None = None) -> di
             "F_inertia": F_m, "F": F, "substeps": n_sub, "nodes": int(T.size)}
 
 
-def simulate(device: Device, protocol: Protocol, noise: Noise | None = None, seed=None,
+def simulate(device: VirtualDamper, protocol: Protocol, noise: Noise | None = None, seed=None,
              name: str | None = None, substeps: int | None = None) -> Record:
     """A lab-like record of ``device`` under ``protocol``.
 

@@ -18,7 +18,7 @@ import yaml
 
 import fvd_bridge as fb
 from fvd_bridge import cli
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 
 from lab import lab_record
 
@@ -30,10 +30,10 @@ def files(tmp_path_factory):
     """{'friction': law2+friction.yaml of one test, 'per_test': law2.yaml of tests A, B with C per test}."""
     folder = tmp_path_factory.mktemp("file_check")
     protocol = paper(amplitude=20, velocity=300, cycles=2, dt=0.005)
-    one = lab_record(Device(C=40.0, alpha=0.3, friction=3.0), protocol, 0.5, 0.005, seed=0, tmp_path=folder,
+    one = lab_record(VirtualDamper(C=40.0, alpha=0.3, friction=3.0), protocol, 0.5, 0.005, seed=0, tmp_path=folder,
                      name="sn1")
     friction = fb.calibrate(one, "2+friction", intervals=0).save(str(folder / "law2+friction.yaml"))
-    tests = [lab_record(Device(C=C, alpha=0.3), protocol, 0.5, 0.005, seed=k, tmp_path=folder, name=name)
+    tests = [lab_record(VirtualDamper(C=C, alpha=0.3), protocol, 0.5, 0.005, seed=k, tmp_path=folder, name=name)
              for k, (name, C) in enumerate((("A", 40.0), ("B", 52.0)))]
     per_test = fb.calibrate(tests, "2", device="D", per_test=["C"], intervals=3).save(str(folder / "law2.yaml"))
     return {"friction": Path(friction), "per_test": Path(per_test)}

@@ -18,7 +18,7 @@ from fvd_bridge.catalog import catalog
 from fvd_bridge.errors import InputError
 from fvd_bridge.fit import fit_model
 from fvd_bridge.records.device import tested_range as peaks_of
-from fvd_bridge.rig import Device, Noise, paper, simulate
+from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures"
 V3 = FIXTURES / "calibration_v3"
@@ -26,7 +26,7 @@ V3 = FIXTURES / "calibration_v3"
 
 @pytest.fixture(scope="module")
 def law2_record():
-    return simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
+    return simulate(VirtualDamper(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
 
 
 @pytest.fixture(scope="module")
@@ -86,7 +86,7 @@ def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_
 
 
 def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before(tmp_path):
-    dev = Device(C=45.4, alpha=0.3, friction=2.0)
+    dev = VirtualDamper(C=45.4, alpha=0.3, friction=2.0)
     noise = Noise(force=0.5, displacement=0.005)
     slow = simulate(dev, paper(cycles=2), noise, seed=1, name="sn7_slow")
     fast = simulate(dev, paper(amplitude=15.0, velocity=300.0, cycles=2), noise, seed=2, name="sn7_fast")
@@ -123,7 +123,7 @@ def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before
 
 
 def test_run_statistics_from_a_dict_and_without_runs(law2_fit):
-    rec = simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3), paper(cycles=2), Noise(force=0.5), seed=3)
     model = catalog().model("2")
     alone = Calibration.from_fit(model, law2_fit, rec)
     assert alone.runs is None

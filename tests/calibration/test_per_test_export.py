@@ -19,7 +19,7 @@ import yaml
 
 import fvd_bridge as fb
 from fvd_bridge import cli
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 
 from lab import lab_record
 
@@ -32,7 +32,7 @@ def per_test_file(tmp_path_factory):
     folder = tmp_path_factory.mktemp("per_test_export")
     paths = []
     for k, (name, C) in enumerate(TRUE_C.items()):
-        rec = lab_record(Device(C=C, alpha=0.3), paper(amplitude=20, velocity=300, cycles=2, dt=0.005), 0.5,
+        rec = lab_record(VirtualDamper(C=C, alpha=0.3), paper(amplitude=20, velocity=300, cycles=2, dt=0.005), 0.5,
                          0.005, seed=k, tmp_path=folder, name=name)
         paths.append(rec.provenance["file"])
     out = folder / "cal"

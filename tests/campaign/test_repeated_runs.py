@@ -12,7 +12,7 @@ import fvd_bridge as fb
 from conftest import CLI, cli_env
 from fvd_bridge.campaign.executors import Serial
 from fvd_bridge.campaign.runner import FIRST_RUNS, CampaignSettings, repeat_each_other, run_campaign
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 from lab import lab_record
 
 
@@ -20,7 +20,7 @@ from lab import lab_record
 def rec(tmp_path_factory):
     """A lab-like law 2 device with a 2 kN seal friction (the model misses
     it: the runs still end on one optimum of eq. 18)."""
-    return lab_record(Device(C=45.4, alpha=0.3, friction=2.0), paper(cycles=3), seed=4,
+    return lab_record(VirtualDamper(C=45.4, alpha=0.3, friction=2.0), paper(cycles=3), seed=4,
                       tmp_path=tmp_path_factory.mktemp("runs"), name="dev")
 
 

@@ -20,7 +20,7 @@ from fvd_bridge.calibration import Calibration
 from fvd_bridge.fit.floor import device_force_floor
 from fvd_bridge.fit.objective import NEAR_FLOOR
 from fvd_bridge.records.device import as_device
-from fvd_bridge.rig import Device, acceptance, paper
+from fvd_bridge.rig import VirtualDamper, acceptance, paper
 
 from lab import lab_record
 
@@ -28,7 +28,7 @@ KS = 150.0
 
 
 def _oil(tmp_path, seed=11, **device):
-    return lab_record(Device(**{"C": 35.0, "alpha": 0.4, "Ks": KS, **device}), acceptance(), 1.5, 0.02,
+    return lab_record(VirtualDamper(**{"C": 35.0, "alpha": 0.4, "Ks": KS, **device}), acceptance(), 1.5, 0.02,
                       seed=seed, tmp_path=tmp_path, name=f"oil{seed}")
 
 
@@ -78,7 +78,7 @@ def test_a_record_near_its_floor_makes_no_wider_search(tmp_path):
     """The usual case costs what it did: the true model of a plain orifice
     ends within 3x of the force noise's floor alone (a lower bound of the
     floor), so neither the floor's propagation nor a wider round is made."""
-    rec = lab_record(Device(C=45.0, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=3, tmp_path=tmp_path, name="plain")
+    rec = lab_record(VirtualDamper(C=45.0, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=3, tmp_path=tmp_path, name="plain")
     cal = _calibrate(rec, "2", seed=0)
     assert cal.settings["runs_made"] == 1 and "wider_runs" not in cal.settings
     assert cal.of < NEAR_FLOOR * device_force_floor(as_device(rec))
@@ -89,7 +89,7 @@ def test_a_force_the_model_explains_little_of_is_flagged(tmp_path):
     """A force that is not the displacement's damper force (here: a sine at
     another frequency) gives an OF beyond 0.5: flagged beside the OF and in
     the warnings, whatever the floor."""
-    rec = lab_record(Device(C=45.0, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=4, tmp_path=tmp_path, name="a")
+    rec = lab_record(VirtualDamper(C=45.0, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=4, tmp_path=tmp_path, name="a")
     other = fb.Record.from_arrays(rec.t, rec.d, 40.0 * np.sin(2 * np.pi * 3.1 * rec.t) + rec.F * 0.05,
                                   units=("kN", "mm", "s"), name="b")
     cal = _calibrate(other, "2", seed=0)

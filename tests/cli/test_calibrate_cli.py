@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 import yaml
 
-from fvd_bridge.rig import Device, Noise, paper, write_series
+from fvd_bridge.rig import VirtualDamper, Noise, paper, write_series
 
 
 @pytest.fixture(scope="module")
 def two_devices(tmp_path_factory):
     out = tmp_path_factory.mktemp("rig")
-    devs = [Device(C=45.4, alpha=0.3, name="dev_a"), Device(C=48.0, alpha=0.31, name="dev_b")]
+    devs = [VirtualDamper(C=45.4, alpha=0.3, name="dev_a"), VirtualDamper(C=48.0, alpha=0.31, name="dev_b")]
     paths = write_series(str(out), devs, paper(cycles=3), Noise(force=1.0), seed=1)
     return paths[:-1]
 

@@ -16,10 +16,10 @@ def fitted(tmp_path_factory):
     of the same device (lab-like CSVs: t,d,F, velocity derived, 1 kN force noise and the
     rig's default 0.005 mm displacement noise)."""
     from fvd_bridge import calibrate, read_record
-    from fvd_bridge.rig import Device, Noise, acceptance, paper, write_series
+    from fvd_bridge.rig import VirtualDamper, Noise, acceptance, paper, write_series
 
     root = tmp_path_factory.mktemp("cmp")
-    dev = [Device(C=45.4, alpha=0.3, name="dev")]
+    dev = [VirtualDamper(C=45.4, alpha=0.3, name="dev")]
     noise = Noise(force=1.0)
     a = write_series(str(root / "paper"), dev, paper(cycles=3), noise, seed=1)[0]
     b = write_series(str(root / "acc"), dev, acceptance(cycles=2), noise, seed=2)[0]

@@ -17,11 +17,11 @@ def series(tmp_path_factory):
     """Calibration files of a 2-device series (laws 1 and 2) in calibrate's layout, and a short
     synthetic ground motion (2-column text: t [s], a [g])."""
     from fvd_bridge import calibrate
-    from fvd_bridge.rig import Device, Noise, paper, simulate
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
     root = tmp_path_factory.mktemp("series")
     for k, C in enumerate((44.0, 48.0)):
-        rec = simulate(Device(C=C, alpha=0.3, name=f"dev{k}"), paper(cycles=3), Noise(force=1.0, displacement=0.005),
+        rec = simulate(VirtualDamper(C=C, alpha=0.3, name=f"dev{k}"), paper(cycles=3), Noise(force=1.0, displacement=0.005),
                        seed=k)
         for spec in ("1", "2"):
             calibrate(rec, spec, seed=k, pop=8, gens=40).save(str(root / "cal" / "params" / rec.name / f"law{spec}.yaml"))
@@ -193,12 +193,12 @@ def one_and_two_tests(tmp_path_factory, series):
     sidecars): law 1 on its slow test, law 2 on both tests, law 2 on the
     slow test alone; the quake of ``series``."""
     import fvd_bridge as fb
-    from fvd_bridge.rig import Device, paper
+    from fvd_bridge.rig import VirtualDamper, paper
 
     from lab import lab_record
 
     root = tmp_path_factory.mktemp("tests")
-    device = Device(C=45.0, alpha=0.3, name="sn1")
+    device = VirtualDamper(C=45.0, alpha=0.3, name="sn1")
     slow = lab_record(device, paper(velocity=150.0, cycles=3), seed=0, tmp_path=root, name="sn1_slow")
     fast = lab_record(device, paper(cycles=3), seed=1, tmp_path=root, name="sn1_fast")
     cals = {"law1_slow": fb.calibrate(slow, "1", intervals=0),

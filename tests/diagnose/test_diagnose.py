@@ -23,7 +23,7 @@ from fvd_bridge.fit.objective import AT_FLOOR, NEAR_FLOOR
 from fvd_bridge.catalog import catalog
 from fvd_bridge.records import Record, read_record
 from fvd_bridge.records.writers import write_csv
-from fvd_bridge.rig import Device, acceptance, paper
+from fvd_bridge.rig import VirtualDamper, acceptance, paper
 from lab import lab_record
 
 C, ALPHA = 45.4, 0.3
@@ -53,7 +53,7 @@ def lab_dir(tmp_path_factory):
 def rig_record(protocol, folder, name="none", seed=11, **params) -> Record:
     """A lab-like record (CSV t,d,F read back, velocity derived; 1 kN force and
     0.005 mm displacement noise) of the rig's law-2 orifice with ``params``."""
-    return lab_record(Device(C=C, alpha=ALPHA, **params), protocol, 1.0, 0.005, seed, folder, name=name)
+    return lab_record(VirtualDamper(C=C, alpha=ALPHA, **params), protocol, 1.0, 0.005, seed, folder, name=name)
 
 
 def test_ladder_finds_two_planted_effects_and_stops(protocol, lab_dir):
@@ -305,7 +305,7 @@ def disagreeing_tests(tmp_path_factory):
     """Two lab CSVs (t,d,F and their sidecars) of one law-2 device whose C moved
     from 40 to 48 between the tests, and the records read back."""
     folder = tmp_path_factory.mktemp("per_test")
-    records = [lab_record(Device(C=c, alpha=ALPHA), paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004),
+    records = [lab_record(VirtualDamper(C=c, alpha=ALPHA), paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004),
                           0.8, 0.01, seed, folder, name=name)
                for c, amp, vel, seed, name in ((40.0, 20.0, 250.0, 1, "dev_a"), (48.0, 30.0, 450.0, 2, "dev_b"))]
     return [folder / "dev_a.csv", folder / "dev_b.csv"], records

@@ -24,7 +24,7 @@ from fvd_bridge.diagnose.where import half_cycles
 from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, settings_for
 from fvd_bridge.golden import REFERENCE
 from fvd_bridge.records import Record
-from fvd_bridge.rig import Device, acceptance, paper, trace
+from fvd_bridge.rig import VirtualDamper, acceptance, paper, trace
 from fvd_bridge.rig.model_device import simulate_model
 from lab import lab_from_forces
 
@@ -74,7 +74,7 @@ def folder(tmp_path_factory):
 
 
 def rig_lab(protocol_name, effect, disp_noise, folder, seed=3) -> Record:
-    device = Device(C=C, alpha=ALPHA, **PLANTED.get(effect, {}))
+    device = VirtualDamper(C=C, alpha=ALPHA, **PLANTED.get(effect, {}))
     tr = trace(device, PROTOCOLS[protocol_name]())
     return lab_file(tr["t"], tr["d"], tr["F"], disp_noise, seed, folder,
                     f"{protocol_name}_{effect}_{disp_noise:g}")
@@ -165,7 +165,7 @@ def test_held_out_rejects_an_effect_of_one_part_of_the_record(folder):
     """An offset force during one cycle only (a transient): on the whole
     record a preload (parallel_stiffness) lowers the OF, but fitted on the
     fold that holds that cycle it does not help on the other."""
-    device = Device(C=C, alpha=ALPHA)
+    device = VirtualDamper(C=C, alpha=ALPHA)
     tr = trace(device, PROTOCOLS["paper"]())
     starts = half_cycles(tr["d"])
     F = tr["F"] + np.where((tr["t"] >= tr["t"][starts[4]]) & (tr["t"] < tr["t"][starts[6]]), 15.0, 0.0)
@@ -261,7 +261,7 @@ def test_a_seal_friction_on_five_levels_passes_the_held_out_check(folder):
     constant force), and the held-out folds (each spanning every level)
     confirm it, where folds cut in time rejected it."""
     ff = 35.0  # about 12% of the 290 kN peak
-    tr = trace(Device(C=C, alpha=ALPHA, friction=ff), PROTOCOLS["acceptance"]())
+    tr = trace(VirtualDamper(C=C, alpha=ALPHA, friction=ff), PROTOCOLS["acceptance"]())
     rec = lab_file(tr["t"], tr["d"], tr["F"], 0.005, 11, folder, "seal_12pct")
     diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
     text = format_diagnosis(diag)
@@ -281,7 +281,7 @@ def test_diagnose_on_the_tests_of_one_device_leaves_one_test_out(folder):
     ff = 30.0
     tests = []
     for k, (amp, vel) in enumerate(((10.0, 100.0), (20.0, 250.0), (30.0, 500.0))):
-        tr = trace(Device(C=C, alpha=ALPHA, friction=ff), paper(amplitude=amp, velocity=vel, cycles=2, dt=0.004))
+        tr = trace(VirtualDamper(C=C, alpha=ALPHA, friction=ff), paper(amplitude=amp, velocity=vel, cycles=2, dt=0.004))
         tests.append(lab_file(tr["t"], tr["d"], tr["F"], 0.005, 20 + k, folder, f"dev_test{k}"))
     diag = diagnose(Tests("dev", tests), "2", seed=0, settings=SETTINGS)
     text = format_diagnosis(diag)
@@ -303,9 +303,9 @@ def two_tests(folder, tag, C_second=40.0, **params):
     from fvd_bridge.records.device import Device as Tests
     from lab import lab_record
 
-    a = lab_record(Device(C=40.0, alpha=ALPHA, **params), paper(amplitude=20.0, velocity=250.0, cycles=3, dt=0.004),
+    a = lab_record(VirtualDamper(C=40.0, alpha=ALPHA, **params), paper(amplitude=20.0, velocity=250.0, cycles=3, dt=0.004),
                    0.8, 0.01, 1, folder, name=f"{tag}_a")
-    b = lab_record(Device(C=C_second, alpha=ALPHA, **params),
+    b = lab_record(VirtualDamper(C=C_second, alpha=ALPHA, **params),
                    paper(amplitude=30.0, velocity=450.0, cycles=3, dt=0.004), 0.8, 0.01, 2, folder, name=f"{tag}_b")
     return Tests(tag, [a, b])
 
@@ -351,7 +351,7 @@ def test_an_effect_that_predicts_a_held_out_test_worse_is_not_recommended(folder
     other worse than the base does, and is not recommended."""
     tests = []
     for k, (amp, vel, offset) in enumerate(((20.0, 250.0, 12.0), (30.0, 450.0, 0.0))):
-        tr = trace(Device(C=40.0, alpha=ALPHA), paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004))
+        tr = trace(VirtualDamper(C=40.0, alpha=ALPHA), paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004))
         tests.append(lab_from_forces(tr["t"], tr["d"], tr["F"] + offset, 0.8, 0.01, 30 + k, folder, name=f"zero_{k}"))
     from fvd_bridge.records.device import Device as Tests
 
@@ -406,7 +406,7 @@ def test_a_seal_friction_of_a_few_percent_is_found_on_five_levels(ff, tmp_path):
     from lab import lab_record
 
     for seed in (0, 1):
-        rec = lab_record(Device(C=40.0, alpha=0.3, friction=ff), acceptance(), 0.8, 0.01, seed, tmp_path,
+        rec = lab_record(VirtualDamper(C=40.0, alpha=0.3, friction=ff), acceptance(), 0.8, 0.01, seed, tmp_path,
                          name=f"seal{ff:g}_{seed}")
         diag = diagnose(rec, "2", seed=seed)
         assert diag.best is not None and diag.best.effect == "friction", format_diagnosis(diag)
@@ -420,6 +420,6 @@ def test_an_effect_free_fvd_gets_no_suggestion_under_either_protocol(protocol, t
     from lab import lab_record
 
     for seed in (0, 1):
-        rec = lab_record(Device(C=40.0, alpha=0.3), protocol(), 0.8, 0.01, seed, tmp_path, name=f"free_{seed}")
+        rec = lab_record(VirtualDamper(C=40.0, alpha=0.3), protocol(), 0.8, 0.01, seed, tmp_path, name=f"free_{seed}")
         diag = diagnose(rec, "2", seed=seed)
         assert diag.best is None and diag.advice is None, format_diagnosis(diag)

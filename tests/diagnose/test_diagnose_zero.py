@@ -18,7 +18,7 @@ from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
 from fvd_bridge.diagnose.zero import solve, zero_force
 from fvd_bridge.records import device as devices
 from fvd_bridge.records.velocity import rest_mask
-from fvd_bridge.rig import Device, paper, trace
+from fvd_bridge.rig import VirtualDamper, paper, trace
 from lab import lab_from_forces
 
 SETTINGS = diagnose_settings(8, 60)
@@ -35,7 +35,7 @@ def two_tests(folder, tag, offset=0.0, rest=0.1, **params) -> tuple[devices.Devi
     """(the device of two lab-like tests, the offset added to both [kN]): the
     rig's law-2 orifice with ``params``, ``rest`` [s] still at start and end,
     ``offset`` x the peak force added to the force before the CSV is written."""
-    traces = [trace(Device(C=40.0, alpha=0.3, **params),
+    traces = [trace(VirtualDamper(C=40.0, alpha=0.3, **params),
                     paper(amplitude=amp, velocity=vel, cycles=3, dt=0.004, rest=rest))
               for amp, vel in ((20.0, 250.0), (30.0, 450.0))]
     F0 = offset * max(np.abs(tr["F"]).max() for tr in traces)

@@ -19,7 +19,7 @@ from fvd_bridge.errors import InputError
 from fvd_bridge.laws import LAWS
 from fvd_bridge.catalog import parse_model
 from fvd_bridge.records import Record
-from fvd_bridge.rig import Device, acceptance, paper, simulate
+from fvd_bridge.rig import VirtualDamper, acceptance, paper, simulate
 from conftest import PLUGIN
 
 C, ALPHA = 45.4, 0.3
@@ -232,7 +232,7 @@ def rig_params(model, dev) -> np.ndarray:
 
 @pytest.mark.parametrize("name", SEVEN)
 def test_each_effect_reproduces_the_rig(name, acc):
-    dev = Device(C=C, alpha=ALPHA, **RIG_CASES[name])
+    dev = VirtualDamper(C=C, alpha=ALPHA, **RIG_CASES[name])
     rec = simulate(dev, acc)
     m = parse_model(f"2+{name}")
     F = m.force(rec, rig_params(m, dev)[None, :])[0]
@@ -250,7 +250,7 @@ def test_all_effects_together_reproduce_the_rig():
     contact gap only for a law without force at rest and no spring
     (test_each_effect_reproduces_the_rig['gap'], tests/effects/test_contact_gap.py),
     so here the device has none and the model's gap is closed (g = 0)."""
-    dev = Device(C=C, alpha=ALPHA, Ks=150.0, friction=3.0, heating=0.2, gap=0.0, asymmetry=0.03, Kp=0.5,
+    dev = VirtualDamper(C=C, alpha=ALPHA, Ks=150.0, friction=3.0, heating=0.2, gap=0.0, asymmetry=0.03, Kp=0.5,
                  preload=2.0, mass=500.0)
     rec = simulate(dev, paper(dt=0.002))
     m = parse_model("2+" + "+".join(SEVEN))
@@ -355,7 +355,7 @@ def test_a_plugin_series_effect_sets_the_connection():
     kernel), its 'off' value is the bare law, and it cannot share Ks with
     series_stiffness."""
     cat = catalog([str(OIL_COLUMN)])
-    rec = simulate(Device(C=45.4, alpha=0.3), acceptance(dt=0.005, cycles=2), None, name="probe")
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3), acceptance(dt=0.005, cycles=2), None, name="probe")
     B = 1500.0
     F_plugin = cat.model("2+bulk_modulus").force(rec, np.array([[45.4, 0.3, B]]))[0]
     F_series = cat.model("2+series_stiffness").force(rec, np.array([[45.4, 0.3, B * 15000.0 / 200.0 * 1e-3]]))[0]

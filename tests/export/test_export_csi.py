@@ -35,7 +35,7 @@ from fvd_bridge.export.csi import (EXPONENTIAL, bilinear_energy, csi_link, effec
 from fvd_bridge.export.opensees import EXACT_OF, SOLVING_DEFLECTION
 from fvd_bridge.fit.objective import objective
 from fvd_bridge.records.device import tested_range as range_of
-from fvd_bridge.rig import Device, Noise, paper
+from fvd_bridge.rig import VirtualDamper, Noise, paper
 from fvd_bridge.rig.model_device import simulate_model
 
 from lab import lab_from_forces, lab_record
@@ -64,10 +64,10 @@ def lab(tmp_path_factory):
     folder = tmp_path_factory.mktemp("csi")
     protocol = paper(amplitude=40.0, velocity=500.0, cycles=2, dt=0.002)
     files = {}
-    rec = lab_record(Device(C=45.0, alpha=0.3, Ks=150.0), protocol, 1.0, 0.005, seed=1, tmp_path=folder,
+    rec = lab_record(VirtualDamper(C=45.0, alpha=0.3, Ks=150.0), protocol, 1.0, 0.005, seed=1, tmp_path=folder,
                      name="series")
     files["series"] = calibration_file(folder / "params" / "series.yaml", rec, "2+series_stiffness", SERIES)
-    rec = lab_record(Device(C=45.0, alpha=0.3), protocol, 1.0, 0.005, seed=2, tmp_path=folder, name="plain")
+    rec = lab_record(VirtualDamper(C=45.0, alpha=0.3), protocol, 1.0, 0.005, seed=2, tmp_path=folder, name="plain")
     files["plain"] = calibration_file(folder / "params" / "plain.yaml", rec, "2", PLAIN)
     exact = simulate_model(parse_model("10"), list(OIL.values()), paper(amplitude=40.0, velocity=400.0, cycles=2,
                                                                         dt=0.002), Noise(0.0, 0.0), name="oil")

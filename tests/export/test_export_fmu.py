@@ -561,9 +561,9 @@ def _export_fmu(*args):
 def test_export_fmu_verb_on_a_calibrated_rig_device(tmp_path):
     """calibrate -> export fmu: built, validated and checked on the calibration record."""
     from fvd_bridge import calibrate, read_record
-    from fvd_bridge.rig import Device, Noise, paper, write_series
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, write_series
 
-    csv_path = write_series(str(tmp_path / "rec"), [Device(C=45.4, alpha=0.3, Ks=150.0, name="dev")], paper(cycles=2),
+    csv_path = write_series(str(tmp_path / "rec"), [VirtualDamper(C=45.4, alpha=0.3, Ks=150.0, name="dev")], paper(cycles=2),
                             Noise(force=1.0, displacement=0.005), seed=4)[0]
     params = calibrate(read_record(csv_path), "2+series_stiffness", pop=8, gens=40).save(str(tmp_path / "law.yaml"))
     out = tmp_path / "damper.fmu"

@@ -308,10 +308,10 @@ def calibrated(tmp_path_factory):
     import sys
 
     from conftest import cli_env
-    from fvd_bridge.rig import Device, Noise, paper, write_series
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, write_series
 
     out = tmp_path_factory.mktemp("exp")
-    path = write_series(str(out / "rec"), [Device(C=45.4, alpha=0.3, friction=3.0, name="dev")], paper(cycles=3),
+    path = write_series(str(out / "rec"), [VirtualDamper(C=45.4, alpha=0.3, friction=3.0, name="dev")], paper(cycles=3),
                         Noise(force=1.0, displacement=0.005), seed=3)[0]
     res = subprocess.run([sys.executable, "-m", "fvd_bridge.cli", "calibrate", path, "--laws", "1-9,2+gap,2+friction,2+thermal_softening",
                           "--runs", "1", "--pop", "8", "--gens", "40", "--out", str(out / "cal"), "--jobs", "1",
@@ -415,9 +415,9 @@ def test_check_reads_the_calibration_record_as_it_was_read(tmp_path):
     from fvd_bridge import cli
     from fvd_bridge.calibration import Calibration
     from fvd_bridge.commands.common import read_as_calibrated, read_records
-    from fvd_bridge.rig import Device, Noise, paper, simulate
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
-    rec = simulate(Device(C=45.4, alpha=0.3, Ks=150.0, friction=3.0, arrangement="oil_column"),
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3, Ks=150.0, friction=3.0, arrangement="oil_column"),
                    paper(cycles=3, dt=0.004), Noise(0.5, 0.005), seed=2)
     path = tmp_path / "lab.csv"
     np.savetxt(path, np.column_stack([rec.t, rec.d / 1000.0, rec.F * 1000.0]), delimiter=",",

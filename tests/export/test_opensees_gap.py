@@ -143,9 +143,9 @@ def _zero_length_force(define, t, d):
 def test_a_pin_gap_reaches_opensees_from_diagnose(tmp_path):
     from conftest import cli_env
     from fvd_bridge.records import read_record
-    from fvd_bridge.rig import Device, Noise, paper, write_series
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, write_series
 
-    path = write_series(str(tmp_path / "rec"), [Device(C=45.4, alpha=0.3, gap=2.0, name="fvd")],
+    path = write_series(str(tmp_path / "rec"), [VirtualDamper(C=45.4, alpha=0.3, gap=2.0, name="fvd")],
                         paper(cycles=3), Noise(force=0.5, displacement=0.005), seed=11)[0]
 
     def cli(*args):

@@ -22,7 +22,7 @@ from fvd_bridge.fit import evaluate_params, fit_model
 from fvd_bridge.fit.de import DESettings
 from fvd_bridge.fit.nested import nested_start
 from fvd_bridge.records.device import Device
-from fvd_bridge.rig import Device as RigDevice
+from fvd_bridge.rig import VirtualDamper
 from fvd_bridge.rig import paper
 from lab import lab_record
 
@@ -34,7 +34,7 @@ LEVELS = ((10.0, 50.0), (20.0, 200.0), (30.0, 450.0))
 def three_tests(tmp_path_factory):
     """Lab-like records of one law-2 device (C 40, alpha 0.3) at three amplitudes and velocities."""
     folder = tmp_path_factory.mktemp("device")
-    dev = RigDevice(C=40.0, alpha=0.3, name="sn101")
+    dev = VirtualDamper(C=40.0, alpha=0.3, name="sn101")
     return [lab_record(dev, paper(amplitude=a, velocity=v, cycles=3, dt=0.005), 0.5, 0.005, seed=k,
                        tmp_path=folder, name=f"sn101_{a:g}mm") for k, (a, v) in enumerate(LEVELS)]
 
@@ -69,7 +69,7 @@ def test_a_parameter_per_test_where_the_tests_differ(tmp_path):
     """Two tests of a device whose damping changed between them (C 40, then
     48: a temperature): --per-test C recovers both within 3% with alpha
     shared; the shared fit cannot follow both and ends with a higher OF."""
-    tests = [lab_record(RigDevice(C=c, alpha=0.3), paper(amplitude=20, velocity=300, cycles=3, dt=0.005), 0.5,
+    tests = [lab_record(VirtualDamper(C=c, alpha=0.3), paper(amplitude=20, velocity=300, cycles=3, dt=0.005), 0.5,
                         0.005, seed=k, tmp_path=tmp_path, name=f"t{k}") for k, c in enumerate((40.0, 48.0))]
     model = catalog().model("2")
     dev = Device("dev", tests)
@@ -206,7 +206,7 @@ def test_a_joint_fit_predicts_the_earthquake_test(shared_dir, tmp_path):
     _, x, _ = lsim(([-1.0], [1.0, 2 * 0.05 * w, w * w]), gm.accel, t)
     x *= 30.0 / np.max(np.abs(x))
     keep = t <= 20.0
-    dev = RigDevice(C=40.0, alpha=0.3, Ks=120.0, friction=12.0)
+    dev = VirtualDamper(C=40.0, alpha=0.3, Ks=120.0, friction=12.0)
     eq = lab_record(dev, history(t[keep], x[keep], name="eq"), 0.5, 0.005, seed=9, tmp_path=tmp_path, name="eq")
     tests = [lab_record(dev, paper(amplitude=a, velocity=v, cycles=3, dt=0.002), 0.5, 0.005, seed=k,
                         tmp_path=tmp_path, name=f"h{k}") for k, (a, v) in enumerate(LEVELS)]
@@ -228,11 +228,11 @@ def test_a_joint_fit_predicts_the_earthquake_test(shared_dir, tmp_path):
 @pytest.fixture(scope="module")
 def arranged(tmp_path_factory):
     """Three lab-like tests (LEVELS) of one FVD (C 40, alpha 0.3, a 120 kN/mm
-    spring, a 12 kN seal) in each arrangement of its spring: {arrangement: Device}."""
+    spring, a 12 kN seal) in each arrangement of its spring: {arrangement: Device} (the tests of one device)."""
     folder = tmp_path_factory.mktemp("arranged")
     out = {}
     for arrangement in ("oil_column", "connection"):
-        dev = RigDevice(C=40.0, alpha=0.3, Ks=120.0, friction=12.0, arrangement=arrangement)
+        dev = VirtualDamper(C=40.0, alpha=0.3, Ks=120.0, friction=12.0, arrangement=arrangement)
         out[arrangement] = Device(arrangement, [
             lab_record(dev, paper(amplitude=a, velocity=v, cycles=3, dt=0.004), 0.5, 0.005, seed=k,
                        tmp_path=folder, name=f"{arrangement}_{k}") for k, (a, v) in enumerate(LEVELS)])

@@ -299,7 +299,7 @@ def test_a_gapped_damper_on_an_earthquake_test_calibrates_to_one_optimum_from_an
     from scipy import signal
 
     from fvd_bridge.records.motions import read_motion
-    from fvd_bridge.rig import Device, history
+    from fvd_bridge.rig import VirtualDamper, history
     from tests.lab import lab_record
 
     motion = read_motion(shared_dir / "records" / "lomaprieta_1989_APEEL2_RedwoodCity_np01002p_4225a_a.smc")
@@ -308,7 +308,7 @@ def test_a_gapped_damper_on_an_earthquake_test_calibrates_to_one_optimum_from_an
     ag = np.interp(t, motion.dt * np.arange(motion.accel.size), motion.accel)
     sdof = signal.StateSpace([[0.0, 1.0], [-w * w, -2 * zeta * w]], [[0.0], [-1.0]], [[1.0, 0.0]], [[0.0]])
     x = signal.lsim(sdof, ag, t)[1]
-    rec = lab_record(Device(C=30.0, alpha=0.4, gap=1.5, Kp=1.0), history(t, 25.0 * x / np.max(np.abs(x))),
+    rec = lab_record(VirtualDamper(C=30.0, alpha=0.4, gap=1.5, Kp=1.0), history(t, 25.0 * x / np.max(np.abs(x))),
                      seed=3, tmp_path=tmp_path, name="quake")
     model = parse_model("2+parallel_stiffness+gap")
     fits = [fit_model(model, rec, seed=[0, 0, 0, k]) for k in range(3)]

@@ -21,7 +21,7 @@ from fvd_bridge import cli
 from fvd_bridge.diagnose import diagnose, diagnose_settings
 from fvd_bridge.fit.zero import zero_force
 from fvd_bridge.records import device as devices
-from fvd_bridge.rig import Device, paper, trace
+from fvd_bridge.rig import VirtualDamper, paper, trace
 from lab import lab_from_forces
 
 SETTINGS = diagnose_settings(8, 60)
@@ -38,7 +38,7 @@ def two_tests(folder, tag, **params) -> devices.Device:
     law 2 with ``params``, each test's force carrying its zero."""
     tests = []
     for k, ((amp, vel, cycles), (F0, F1)) in enumerate(zip(((20.0, 250.0, 3), (30.0, 450.0, 14)), ZEROS)):
-        tr = trace(Device(C=40.0, alpha=0.3, **params), paper(amplitude=amp, velocity=vel, cycles=cycles, dt=0.004,
+        tr = trace(VirtualDamper(C=40.0, alpha=0.3, **params), paper(amplitude=amp, velocity=vel, cycles=cycles, dt=0.004,
                                                                rest=0.0))
         F = tr["F"] + zero_force(F0, F1, tr["t"])
         tests.append(lab_from_forces(tr["t"], tr["d"], F, 0.8, 0.01, 60 + k, folder, name=f"{tag}_{k}"))

@@ -20,7 +20,7 @@ from fvd_bridge.calibration import Calibration
 from fvd_bridge.catalog import catalog
 from fvd_bridge.fit import fit_model
 from fvd_bridge.fit.intervals import intervals
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 from fvd_bridge.records import ReadOptions, Record, read_record
 from fvd_bridge.records.velocity import rest_mask
 from lab import lab_from_forces, lab_record
@@ -71,7 +71,7 @@ def test_intervals_cover_the_truth_on_a_few_lab_records(tmp_path):
     their standard errors of the truth on average, each strictly inside its
     interval, and the intervals cover C and alpha in at least 4 of 5, each
     narrower than 2%."""
-    recs = [lab_record(Device(C=40.0, alpha=0.3), paper(), 1.0, 0.01, seed=s, tmp_path=tmp_path, name=f"r{s}")
+    recs = [lab_record(VirtualDamper(C=40.0, alpha=0.3), paper(), 1.0, 0.01, seed=s, tmp_path=tmp_path, name=f"r{s}")
             for s in range(5)]
     covered, widths, errors, inside = coverage(recs)
     assert np.all(np.abs(errors.mean(axis=0)) < 1.0), errors  # mean error below one standard error
@@ -106,7 +106,7 @@ def test_a_gaps_interval_covers_its_clearance_on_acceptance_records(tmp_path):
     model = catalog().model("2+gap")
     hits = dict.fromkeys(truth, 0)
     for s in range(10):
-        rec = lab_record(Device(C=20.0, alpha=0.5, gap=1.0), acceptance(cycles=2), 1.0, 0.01, seed=200 + s,
+        rec = lab_record(VirtualDamper(C=20.0, alpha=0.5, gap=1.0), acceptance(cycles=2), 1.0, 0.01, seed=200 + s,
                          tmp_path=tmp_path, name=f"gap{s}")
         fit = fit_model(model, rec, seed=0)
         iv = intervals(model, rec, fit.params, bounds=fit.bounds, seed=s)
@@ -153,7 +153,7 @@ def test_law8_names_what_is_not_identified_and_gives_the_product(tmp_path):
 
 def test_intervals_travel_in_the_calibration_file(tmp_path):
     """stderr, ci95 per parameter and the correlation matrix are written and read back."""
-    rec = lab_record(Device(C=40.0, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=1, tmp_path=tmp_path, name="r")
+    rec = lab_record(VirtualDamper(C=40.0, alpha=0.3), paper(cycles=3), 1.0, 0.005, seed=1, tmp_path=tmp_path, name="r")
     cal = calibrate(rec, "2", runs=1, intervals=8)
     path = cal.save(str(tmp_path / "law2.yaml"))
     raw = yaml.safe_load(open(path))

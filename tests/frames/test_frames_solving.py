@@ -17,7 +17,7 @@ from fvd_bridge.api import calibrate
 from fvd_bridge.export.opensees import SOLVING_DEFLECTION, opensees_export, solving_springs
 from fvd_bridge.export.opensees_check import check
 from fvd_bridge.frames.transient import ALGORITHMS, ZERO_TANGENT_ALGORITHMS, algorithms_for
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 from lab import lab_record
 
 #: the device of the issue: C 45 kN/(mm/s)^0.3, alpha 0.3, tested at 30 mm and 190 mm/s
@@ -27,7 +27,7 @@ C, ALPHA, STROKE, VELOCITY = 45.0, 0.3, 30.0, 190.0
 @pytest.fixture(scope="module")
 def law2_cal(tmp_path_factory):
     """Law 2 calibrated on a lab-like record of the device (1 Hz, 3 cycles)."""
-    rec = lab_record(Device(C=C, alpha=ALPHA, name="sn45"), paper(amplitude=STROKE, velocity=VELOCITY, cycles=3,
+    rec = lab_record(VirtualDamper(C=C, alpha=ALPHA, name="sn45"), paper(amplitude=STROKE, velocity=VELOCITY, cycles=3,
                                                                   dt=0.005),
                      0.5, 0.005, seed=4, tmp_path=tmp_path_factory.mktemp("lab"), name="sn45")
     return calibrate(rec, "2", intervals=0), rec

@@ -16,9 +16,9 @@ from fvd_bridge.report.numbers import share
 def law2():
     """A power-law device (C 45.4, alpha 0.3) calibrated with law 2 on a clean paper test."""
     from fvd_bridge import calibrate
-    from fvd_bridge.rig import Device, Noise, paper, simulate
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
-    rec = simulate(Device(C=45.4, alpha=0.3, name="dev"), paper(cycles=3), Noise(force=0.0, displacement=0.0),
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3, name="dev"), paper(cycles=3), Noise(force=0.0, displacement=0.0),
                    seed=0)
     return calibrate(rec, "2", seed=0, pop=8, gens=40, intervals=0)
 

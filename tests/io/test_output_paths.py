@@ -31,10 +31,10 @@ ROOT = os.geteuid() == 0  # chmod does not stop root: those cases skip
 def inputs(tmp_path_factory):
     """A lab-like record of a law-2 device, a short ground motion and a campaign file's folder."""
     from lab import lab_record
-    from fvd_bridge.rig import Device, paper
+    from fvd_bridge.rig import VirtualDamper, paper
 
     root = tmp_path_factory.mktemp("inputs")
-    lab_record(Device(C=45.0, alpha=0.3, name="dev"), paper(cycles=2), seed=0, tmp_path=root)
+    lab_record(VirtualDamper(C=45.0, alpha=0.3, name="dev"), paper(cycles=2), seed=0, tmp_path=root)
     t = np.arange(0.0, 2.0, 0.01)
     (root / "quake.txt").write_text("\n".join(f"{x:.3f} {0.2 * np.sin(2 * np.pi * x):.6f}" for x in t))
     return root

@@ -15,7 +15,7 @@ from fvd_bridge.fit.layout import Layout
 from fvd_bridge.fit.local import FROM_START, run_local
 from fvd_bridge.fit.nested import data_start
 from fvd_bridge.records.device import as_device
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 
 from lab import lab_from_forces, lab_record
 
@@ -62,7 +62,7 @@ def test_a_connection_with_play_hides_the_friction_at_the_reversals_not_at_speed
     the reading there sees a fraction of the friction; the second reading,
     |F| = Ff + C |v| at speed, reads Ff and C within 10%.  Law 8's fit from
     the data's starts reaches DE's optimum."""
-    rec = lab_record(Device(C=0.02, alpha=1.0, friction=12.0, v_friction=0.1, gap=1.0, name="play"),
+    rec = lab_record(VirtualDamper(C=0.02, alpha=1.0, friction=12.0, v_friction=0.1, gap=1.0, name="play"),
                      paper(cycles=3), 0.3, 0.005, seed=3, tmp_path=tmp_path)
     (C0, K0, mu0, N0), (C1, K1, mu1, N1) = data_start(parse_model("8"), rec)
     assert mu0 * N0 < 0.5 * 12.0

@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import fvd_bridge as fb  # noqa: E402
-from fvd_bridge.rig import Device as RigDevice  # noqa: E402
+from fvd_bridge.rig import VirtualDamper as VirtualDamper  # noqa: E402
 from fvd_bridge.rig import Noise, paper, simulate  # noqa: E402
 
 #: the device: law 2 (C 45, alpha 0.3) behind a 150 kN/mm oil column
@@ -23,7 +23,7 @@ TRUE_C, TRUE_ALPHA, TRUE_KS = 45.0, 0.3, 150.0
 @pytest.fixture(scope="module")
 def arrays():
     """t [s], d [m], F [N] of a lab-like test (noise on force and displacement)."""
-    sim = simulate(RigDevice(C=TRUE_C, alpha=TRUE_ALPHA, Ks=TRUE_KS), paper(cycles=3), Noise(1.0, 0.005), seed=0)
+    sim = simulate(VirtualDamper(C=TRUE_C, alpha=TRUE_ALPHA, Ks=TRUE_KS), paper(cycles=3), Noise(1.0, 0.005), seed=0)
     return sim.t, sim.d / 1000.0, sim.F * 1000.0
 
 

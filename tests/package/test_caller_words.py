@@ -35,10 +35,10 @@ def cli_words(message: str) -> list[str]:
 def lab(tmp_path_factory):
     """A lab-like law-2 record (kN, mm, s), its CSV, and the same columns unnamed and in a .mat."""
     from lab import lab_record
-    from fvd_bridge.rig import Device, paper
+    from fvd_bridge.rig import VirtualDamper, paper
 
     root = tmp_path_factory.mktemp("words")
-    rec = lab_record(Device(C=45.0, alpha=0.3, name="dev"), paper(cycles=2), seed=0, tmp_path=root)
+    rec = lab_record(VirtualDamper(C=45.0, alpha=0.3, name="dev"), paper(cycles=2), seed=0, tmp_path=root)
     (root / "unnamed.csv").write_text(csv_text("time,x,load", [S["t"], S["d"], S["F"]]))
     scipy.io.savemat(root / "rig.mat", {"x_F": np.column_stack([S["d"], S["F"]]), "Ts": 0.01})
     return rec, root

@@ -18,7 +18,7 @@ from fvd_bridge.calibration import Calibration
 from fvd_bridge.catalog import catalog, parse_model
 from fvd_bridge.errors import InputError
 from fvd_bridge.records import read_record
-from fvd_bridge.rig import Device, Noise, paper, simulate
+from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
 REPO = Path(__file__).resolve().parents[2]
 FIXTURES = REPO / "tests" / "fixtures"
@@ -27,7 +27,7 @@ FIXTURES = REPO / "tests" / "fixtures"
 @pytest.fixture(scope="module")
 def lab_csv(tmp_path_factory):
     """A rig device written as a lab would: other column names and units (ms, m, N)."""
-    rec = simulate(Device(C=45.4, alpha=0.3, friction=3.0), paper(cycles=3), Noise(force=1.0, displacement=0.005), seed=2)
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3, friction=3.0), paper(cycles=3), Noise(force=1.0, displacement=0.005), seed=2)
     path = tmp_path_factory.mktemp("lab") / "lab_dev.csv"
     rows = ["time,disp,load"] + [f"{t * 1e3:.6f},{d * 1e-3:.9f},{F * 1e3:.6f}"
                                  for t, d, F in zip(rec.t, rec.d, rec.F)]
@@ -48,7 +48,7 @@ def test_model_operations_nest_and_refuse_clashes():
     law8 = parse_model("8+asymmetry")
     assert law8.derived([0.1, 50.0, 0.4, 250.0, 0.1]) == {"mu*N": (pytest.approx(100.0), "kN")}
     # the effect switched off reproduces the model without it, row by row
-    rec = simulate(Device(C=45.4, alpha=0.3), paper(cycles=2), seed=0)
+    rec = simulate(VirtualDamper(C=45.4, alpha=0.3), paper(cycles=2), seed=0)
     P = np.array([[45.0, 0.3, 0.0, 0.0], [40.0, 0.35, 0.0, 0.0]])
     assert np.allclose(m.force(rec, P), base.force(rec, P[:, :2]), rtol=0, atol=1e-9)
 
@@ -119,7 +119,7 @@ def test_executors_give_the_same_campaign(tmp_path):
     from fvd_bridge.campaign.runner import CampaignSettings, run_campaign
     from fvd_bridge.campaign.tasks import make_tasks
 
-    recs = [simulate(Device(C=c, alpha=0.3, name=f"d{k}"), paper(cycles=2), Noise(force=1.0), seed=k)
+    recs = [simulate(VirtualDamper(C=c, alpha=0.3, name=f"d{k}"), paper(cycles=2), Noise(force=1.0), seed=k)
             for k, c in enumerate((44.0, 47.0))]
     cs = CampaignSettings(specs=("2", "9"), runs=2, pop=6, gens=15)
     tasks = make_tasks(recs, cs)

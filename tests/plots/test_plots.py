@@ -12,12 +12,12 @@ import pytest  # noqa: E402
 
 from fvd_bridge.errors import InputError  # noqa: E402
 from fvd_bridge.plots import campaign, effects, record  # noqa: E402
-from fvd_bridge.rig import Device, Noise, paper, simulate  # noqa: E402
+from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def rec():
-    return simulate(Device(C=45.0, alpha=0.3), paper(cycles=2), Noise(1.0, 0.005), seed=0)
+    return simulate(VirtualDamper(C=45.0, alpha=0.3), paper(cycles=2), Noise(1.0, 0.005), seed=0)
 
 
 def test_one_panel_figures_draw_on_the_given_axes(rec):

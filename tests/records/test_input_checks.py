@@ -26,7 +26,7 @@ from fvd_bridge import cli
 from fvd_bridge.calibration import Calibration
 from fvd_bridge.errors import InputError
 from fvd_bridge.records import ReadOptions, RecordWarning, read_record
-from fvd_bridge.rig import Device, Noise, demo_series, paper, write_series
+from fvd_bridge.rig import VirtualDamper, Noise, demo_series, paper, write_series
 from lab import lab_record
 
 REVERSED = "the force's sign looks reversed"
@@ -66,8 +66,8 @@ def files(tmp_path_factory):
     flip), a law-2 calibration of the original, and a 20 kN device's record
     written in m and N without units."""
     root = tmp_path_factory.mktemp("lie")
-    lab_record(Device(C=40.0, alpha=0.3, name="fvd"), paper(cycles=3), 0.8, 0.01, seed=0, tmp_path=root)
-    lab_record(Device(C=3.1, alpha=0.3, name="small"), paper(cycles=3), 0.05, 0.01, seed=0, tmp_path=root)
+    lab_record(VirtualDamper(C=40.0, alpha=0.3, name="fvd"), paper(cycles=3), 0.8, 0.01, seed=0, tmp_path=root)
+    lab_record(VirtualDamper(C=3.1, alpha=0.3, name="small"), paper(cycles=3), 0.05, 0.01, seed=0, tmp_path=root)
     src = root / "fvd.csv"
     negated = rewrite(src, root / "negated.csv", F_factor=-1.0)
     flipped = rewrite(src, root / "flipped.csv", F_factor=-1.0,
@@ -167,7 +167,7 @@ def test_rig_records_pass_and_negated_they_trip(tmp_path):
     with series stiffness, friction, a gap, a parallel spring and preload:
     no doubt; each with its force negated: named as reversed."""
     paths = write_series(str(tmp_path / "demo"), demo_series(0), paper(cycles=3), Noise(force=1.0), seed=0)
-    paths += write_series(str(tmp_path / "fx"), [Device(C=45.4, alpha=0.3, Ks=50.0, friction=10.0, gap=0.5,
+    paths += write_series(str(tmp_path / "fx"), [VirtualDamper(C=45.4, alpha=0.3, Ks=50.0, friction=10.0, gap=0.5,
                                                         Kp=2.0, preload=20.0, name="fx")],
                           paper(cycles=3), Noise(force=1.0), seed=1)
     for path in (Path(p) for p in paths if p.endswith(".csv")):

@@ -32,7 +32,7 @@ from fvd_bridge.errors import InputError
 from fvd_bridge.golden import REFERENCE
 from fvd_bridge.records import ReadOptions, RecordWarning, read_record
 from fvd_bridge.records.motions import read_motion
-from fvd_bridge.rig import Device, history, paper, trace
+from fvd_bridge.rig import VirtualDamper, history, paper, trace
 from fvd_bridge.rig.model_device import simulate_model
 
 SWAPPED = "the d and F columns look swapped"
@@ -40,8 +40,8 @@ REVERSED = "the force's sign looks reversed"
 MR = {"mat_var": "x_F", "units": {"F": "N"}}
 #: (force noise share of the peak, displacement noise [mm]): other than the tuning's
 NOISE = {"quiet": (0.005, 0.002), "loud": (0.02, 0.03)}
-DEVICES = {"friction": Device(C=20.0, alpha=0.3, friction=40.0), "gap": Device(C=30.0, alpha=0.3, gap=1.5),
-           "series": Device(C=45.0, alpha=0.3, Ks=30.0), "linear": Device(C=1.0, alpha=1.0)}
+DEVICES = {"friction": VirtualDamper(C=20.0, alpha=0.3, friction=40.0), "gap": VirtualDamper(C=30.0, alpha=0.3, gap=1.5),
+           "series": VirtualDamper(C=45.0, alpha=0.3, Ks=30.0), "linear": VirtualDamper(C=1.0, alpha=1.0)}
 
 
 def elcentro(dt: float = 0.005, duration: float = 20.0, peak: float = 20.0):

@@ -22,7 +22,7 @@ from fvd_bridge import calibrate
 from fvd_bridge.errors import InputError
 from fvd_bridge.records import ReadOptions, RecordWarning, read_record
 from fvd_bridge.records.plausible import FORCE_MAX_KN, implausible, peaks
-from fvd_bridge.rig import Device, demo_series, paper
+from fvd_bridge.rig import VirtualDamper, demo_series, paper
 from fvd_bridge.units import factor, unit_name
 from lab import lab_record
 
@@ -128,7 +128,7 @@ def test_a_newton_file_with_header_units_calibrates(tmp_path):
     """A lab-like law-2 record (C 40, alpha 0.3) written in N with its header
     't [s],d [mm],F [N]' calibrates to the truth; without the header's units
     it is refused."""
-    rec = lab_record(Device(C=40.0, alpha=0.3, name="fvd"), paper(cycles=3), 0.8, 0.01, seed=0, tmp_path=tmp_path)
+    rec = lab_record(VirtualDamper(C=40.0, alpha=0.3, name="fvd"), paper(cycles=3), 0.8, 0.01, seed=0, tmp_path=tmp_path)
     newton = write(tmp_path, "newton.csv", "t [s],d [mm],F [N]", rec.t, rec.d, rec.F * 1e3)
     cal = calibrate(read(newton, refuse=True), "2", intervals=0)
     C, alpha = cal.values

@@ -71,9 +71,9 @@ def make_fixture(root) -> tuple:
     from fvd_bridge import calibrate
     from fvd_bridge.campaign.acceptance import Acceptance, design_motion
     from fvd_bridge.campaign.bounds import FORCE, design_forces
-    from fvd_bridge.rig import Device, Noise, paper, simulate
+    from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
-    rec = simulate(Device(C=44.0, alpha=0.3, name=DEVICE), paper(cycles=3), Noise(force=1.0, displacement=0.005),
+    rec = simulate(VirtualDamper(C=44.0, alpha=0.3, name=DEVICE), paper(cycles=3), Noise(force=1.0, displacement=0.005),
                    seed=0)
     design = {"velocity": 300.0, "amplitude": 20.0, "dt": 0.002, "cycles": 3}
     motion = design_motion(Acceptance(velocity=design["velocity"], cycles=design["cycles"]), design["amplitude"],

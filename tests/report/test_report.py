@@ -16,7 +16,7 @@ import pytest
 
 from conftest import CLI, REPO, cli_env
 from fvd_bridge.report.acceptance import cycle_peaks_and_energies
-from fvd_bridge.rig import Device, paper
+from fvd_bridge.rig import VirtualDamper, paper
 
 from lab import lab_record
 
@@ -37,7 +37,7 @@ def report(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("report")
     protocol = paper()
     for name, heating in (("steady", 0.0), ("hot", HOT)):
-        lab_record(Device(C=45.0, alpha=0.3, heating=heating, name=name), protocol, seed=3, tmp_path=tmp, name=name)
+        lab_record(VirtualDamper(C=45.0, alpha=0.3, heating=heating, name=name), protocol, seed=3, tmp_path=tmp, name=name)
     out = tmp / "out"
     res = subprocess.run([*CLI, "calibrate", str(tmp / "steady.csv"), str(tmp / "hot.csv"), "--laws", "2",
                           "--runs", "2", "--out", str(out)], capture_output=True, text=True, env=cli_env(),
@@ -172,9 +172,9 @@ def test_the_acceptance_nominal_ranks_on_the_same_data(tmp_path):
     import fvd_bridge as fb
     from fvd_bridge.report.page import build_report
 
-    slow = lab_record(Device(C=45.0, alpha=0.3, name="sn1"), paper(velocity=150.0, cycles=3), seed=0,
+    slow = lab_record(VirtualDamper(C=45.0, alpha=0.3, name="sn1"), paper(velocity=150.0, cycles=3), seed=0,
                       tmp_path=tmp_path, name="sn1_slow")
-    fast = lab_record(Device(C=45.0, alpha=0.3, name="sn1"), paper(cycles=3), seed=1, tmp_path=tmp_path,
+    fast = lab_record(VirtualDamper(C=45.0, alpha=0.3, name="sn1"), paper(cycles=3), seed=1, tmp_path=tmp_path,
                       name="sn1_fast")
     one = fb.calibrate(slow, "1", intervals=0)
     two = fb.calibrate([slow, fast], "2", device="sn1", intervals=0)

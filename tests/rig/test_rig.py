@@ -25,7 +25,7 @@ from fvd_bridge.errors import InputError
 from fvd_bridge.laws import get_law
 from fvd_bridge.records import RecordWarning, read_record
 from lab import lab_from_forces, lab_record
-from fvd_bridge.rig import (Device, Noise, acceptance, cycle_bounds, demo_series, energy_per_cycle, history,
+from fvd_bridge.rig import (VirtualDamper, Noise, acceptance, cycle_bounds, demo_series, energy_per_cycle, history,
                             loop_area, orifice_energy_per_cycle, paper, production_series, read_history,
                             read_truth, simulate, trace, write_series)
 
@@ -76,7 +76,7 @@ def test_history_protocol_from_csv(tmp_path):
     dd, vv, _ = p.motion(p.times())
     assert np.max(np.abs(dd - d)) < 1e-9
     assert np.max(np.abs(vv - np.gradient(d, t))) < 0.5
-    rec = simulate(Device(C=10.0, alpha=0.5), p)
+    rec = simulate(VirtualDamper(C=10.0, alpha=0.5), p)
     assert rec.n == t.size
     with pytest.raises(InputError, match="t"):
         history([0, 1, 1, 2], [0, 1, 2, 3])
@@ -86,7 +86,7 @@ def test_history_protocol_from_csv(tmp_path):
 
 @pytest.mark.parametrize("alpha", [0.3, 1.0, 1.7])
 def test_orifice_only_equals_law2(prot, alpha):
-    dev = Device(C=C0, alpha=alpha)
+    dev = VirtualDamper(C=C0, alpha=alpha)
     for p in (prot, acceptance(cycles=1)):
         rec = simulate(dev, p)
         F2 = get_law(2).force(rec.d, rec.v, rec.dt, np.array([[C0, alpha]]))[0]
@@ -101,7 +101,7 @@ def test_energy_per_cycle_pure_orifice(prot):
                    limit=200, points=[math.pi / (2 * om), 3 * math.pi / (2 * om)])[0]
     assert closed == pytest.approx(numeric, rel=1e-9)
     assert orifice_energy_per_cycle(2.0, 1.0, A, om) == pytest.approx(math.pi * 2.0 * A * A * om)
-    tr = trace(Device(C=C0, alpha=A0), prot)
+    tr = trace(VirtualDamper(C=C0, alpha=A0), prot)
     bounds = cycle_bounds(tr["d"])
     energies = energy_per_cycle(tr["d"], tr["F"])
     assert energies.size == len(bounds) >= 10
@@ -118,8 +118,8 @@ def test_energy_per_cycle_pure_orifice(prot):
 def test_series_stiffness_lag_and_reversal_force():
     dt = 2 * math.pi * 40.0 / 500.0 / 256
     prot = paper(dt=dt, rest=25 * dt)  # samples on the reversals
-    rigid = trace(Device(C=C0, alpha=A0), prot)
-    soft = trace(Device(C=C0, alpha=A0, Ks=100.0), prot)
+    rigid = trace(VirtualDamper(C=C0, alpha=A0), prot)
+    soft = trace(VirtualDamper(C=C0, alpha=A0, Ks=100.0), prot)
     steady = cycle_bounds(soft["d"])[2:-2]
     for a, _ in steady:  # a = a displacement maximum (reversal)
         assert abs(rigid["F"][a]) < 0.01 * 292
@@ -136,7 +136,7 @@ def test_series_stiffness_lag_and_reversal_force():
     # reversals, where |v|^alpha is too steep for any finite Ks to follow (at
     # rest the force relaxes only as dS/dt ~ -Ks (S/C)^(1/alpha))
     p3 = paper(cycles=3)
-    rigid, stiff = trace(Device(C=C0, alpha=A0), p3), trace(Device(C=C0, alpha=A0, Ks=1e5), p3)
+    rigid, stiff = trace(VirtualDamper(C=C0, alpha=A0), p3), trace(VirtualDamper(C=C0, alpha=A0, Ks=1e5), p3)
     moving = np.abs(rigid["v"]) > 5.0
     assert np.mean(np.abs(stiff["F"] - rigid["F"])[moving]) < 1e-3 * 292
 
@@ -146,7 +146,7 @@ def test_linear_maxwell_matches_closed_form():
     F = C A w (cos wt + (C w / Ks) sin wt) / (1 + (C w / Ks)^2)."""
     p = paper(cycles=4)
     C, Ks = 0.6, 100.0
-    tr = trace(Device(C=C, alpha=1.0, Ks=Ks), p)
+    tr = trace(VirtualDamper(C=C, alpha=1.0, Ks=Ks), p)
     seg, t_s = p.segments[0], p.starts[0]
     om, A = seg.omega, seg.amplitude
     tau = tr["t"] - t_s
@@ -203,14 +203,14 @@ def _reference_series_force(dev, p, rtol=1e-7):
 
 def test_maxwell_against_independent_radau():
     p = paper(cycles=1, rest=0.02)
-    dev = Device(C=C0, alpha=A0, Ks=150.0, friction=3.0, heating=0.1, asymmetry=0.015, gap=0.2)
+    dev = VirtualDamper(C=C0, alpha=A0, Ks=150.0, friction=3.0, heating=0.1, asymmetry=0.015, gap=0.2)
     tr, S, E = _reference_series_force(dev, p)
     assert np.max(np.abs(tr["F_series"] - S)) < 2e-3  # kN, on a 300 kN loop
     assert np.max(np.abs(tr["E"] - E)) < 1e-6 * E[-1]
 
 
 def test_maxwell_converges_with_substeps(prot):
-    dev = Device(C=C0, alpha=A0, Ks=150.0, friction=3.0, heating=0.1, asymmetry=0.015)
+    dev = VirtualDamper(C=C0, alpha=A0, Ks=150.0, friction=3.0, heating=0.1, asymmetry=0.015)
     coarse, fine = trace(dev, prot), trace(dev, prot, substeps=64)
     assert coarse["substeps"] < 64
     assert np.max(np.abs(coarse["F"] - fine["F"])) < 1e-3
@@ -220,7 +220,7 @@ def test_maxwell_converges_with_substeps(prot):
 
 def test_heating_drops_peaks_by_expected_factor(prot):
     theta = 0.3  # 1/MJ
-    tr = trace(Device(C=C0, alpha=A0, heating=theta), prot)
+    tr = trace(VirtualDamper(C=C0, alpha=A0, heating=theta), prot)
     seg, t_s = prot.segments[0], prot.starts[0]
     A, om, T = seg.amplitude, seg.omega, 1.0 / seg.frequency
     peaks = np.array([tr["F"][a:b].max() for a, b in cycle_bounds(tr["d"])])
@@ -236,7 +236,7 @@ def test_heating_drops_peaks_by_expected_factor(prot):
 
 def test_gap_zero_force_plateau_of_the_right_width(prot):
     g = 2.0
-    tr = trace(Device(C=C0, alpha=A0, gap=g), prot)
+    tr = trace(VirtualDamper(C=C0, alpha=A0, gap=g), prot)
     d, F = tr["d"], tr["F"]
     assert np.all(np.abs(tr["y"] - d) <= g / 2 + 1e-9)
     dense = np.linspace(0, prot.duration, 400001)
@@ -256,8 +256,8 @@ def test_gap_zero_force_plateau_of_the_right_width(prot):
 
 
 def test_asymmetry_friction_accumulator_mass(prot):
-    tr0 = trace(Device(C=C0, alpha=A0), prot)
-    tr = trace(Device(C=C0, alpha=A0, asymmetry=0.02, friction=3.0, Kp=0.2, preload=1.5, mass=50.0), prot)
+    tr0 = trace(VirtualDamper(C=C0, alpha=A0), prot)
+    tr = trace(VirtualDamper(C=C0, alpha=A0, asymmetry=0.02, friction=3.0, Kp=0.2, preload=1.5, mass=50.0), prot)
     assert tr["F"][0] == pytest.approx(1.5)  # at rest: the preload only
     assert np.max(tr["F_orifice"]) == pytest.approx(1.02 * np.max(tr0["F"]), rel=1e-12)
     assert np.min(tr["F_orifice"]) == pytest.approx(0.98 * np.min(tr0["F"]), rel=1e-12)
@@ -271,7 +271,7 @@ def test_asymmetry_friction_accumulator_mass(prot):
 # ----------------------------------------------------- noise, seeds, series
 
 def test_seeded_noise_is_reproducible(prot):
-    dev = Device(C=C0, alpha=A0, Ks=150.0)
+    dev = VirtualDamper(C=C0, alpha=A0, Ks=150.0)
     clean = simulate(dev, prot)
     a = simulate(dev, prot, Noise(force=1.0, displacement=0.01), seed=7)
     b = simulate(dev, prot, Noise(force=1.0, displacement=0.01), seed=7)
@@ -290,7 +290,7 @@ def test_seeded_noise_is_reproducible(prot):
 
 
 def test_production_series_statistics():
-    nominal = Device(C=C0, alpha=A0, Ks=150.0, friction=3.0, asymmetry=0.02)
+    nominal = VirtualDamper(C=C0, alpha=A0, Ks=150.0, friction=3.0, asymmetry=0.02)
     scatter = {"C": 0.10, "alpha": 0.05, "Ks": 0.2}
     devs = production_series(2000, nominal, scatter, seed=1)
     lc = np.log([d.C / C0 for d in devs])
@@ -301,7 +301,7 @@ def test_production_series_statistics():
     assert all(d.friction == 3.0 and d.asymmetry == 0.02 for d in devs)  # not scattered
     assert production_series(5, nominal, scatter, seed=1) == devs[:5]
     assert production_series(5, nominal, scatter, seed=2) != devs[:5]
-    assert all(d.Ks is None for d in production_series(3, Device(), {"Ks": 0.2}, seed=0))
+    assert all(d.Ks is None for d in production_series(3, VirtualDamper(), {"Ks": 0.2}, seed=0))
     with pytest.raises(InputError, match="bogus"):
         production_series(2, nominal, {"bogus": 0.1})
 
@@ -320,14 +320,14 @@ def test_demo_series_resembles_the_paper(prot):
                                       ({"mass": -1}, "mass"), ({"heating": float("nan")}, "heating")])
 def test_device_refuses_nonsense(bad, name):
     with pytest.raises(InputError, match=rf"\b{name}\b"):
-        Device(**bad)
-    assert Device(Ks=float("inf")).rigid
+        VirtualDamper(**bad)
+    assert VirtualDamper(Ks=float("inf")).rigid
 
 
 # ------------------------------------------------------------- writing, CLI
 
 def test_write_series_reads_back(tmp_path, prot):
-    devs = production_series(2, Device(C=C0, alpha=A0, Ks=150.0), {"C": 0.05}, seed=3)
+    devs = production_series(2, VirtualDamper(C=C0, alpha=A0, Ks=150.0), {"C": 0.05}, seed=3)
     paths = write_series(str(tmp_path), devs, prot, Noise(0.5), seed=11, with_velocity=True)
     assert [os.path.basename(p) for p in paths] == ["device_01.csv", "device_02.csv", "truth.yaml"]
     assert sorted(os.listdir(tmp_path)) == ["device_01.csv", "device_01.yaml", "device_02.csv", "device_02.yaml",
@@ -351,7 +351,7 @@ def test_lab_record_derives_velocity_like_a_lab(tmp_path):
     """tests/lab.py: rig or model forces written as CSV t,d,F with the sidecar
     and read back, so v is the tool's derivative of the noisy d."""
     p = acceptance(cycles=2)
-    dev = Device(C=C0, alpha=A0)
+    dev = VirtualDamper(C=C0, alpha=A0)
     rec = lab_record(dev, p, 1.0, 0.01, seed=3, tmp_path=tmp_path)
     exact = simulate(dev, p, Noise(1.0, 0.01), seed=3)
     assert sorted(f.name for f in tmp_path.iterdir()) == ["device.csv", "device.yaml"]
@@ -383,7 +383,7 @@ def test_write_series_leaves_nothing_on_error(tmp_path, prot, monkeypatch):
     real = series.write_csv
     monkeypatch.setattr(series, "write_csv", failing)
     with pytest.raises(OSError):
-        write_series(str(tmp_path / "out"), production_series(3, Device(), {}, 0), paper(cycles=1))
+        write_series(str(tmp_path / "out"), production_series(3, VirtualDamper(), {}, 0), paper(cycles=1))
     assert os.listdir(tmp_path) == []  # no out folder, no staging folder beside it
 
 
