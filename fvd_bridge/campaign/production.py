@@ -111,6 +111,7 @@ def as_json(prod: dict, accept: dict | None) -> dict:
     acc = None
     if accept:
         acc = {k: accept[k] for k in ("settings", "nominal_force", "nominal_source", "amplitude", "dt")}
+        acc["skipped"] = accept.get("skipped", {})
     return {"outlier_rule": f"|x - median| > {prod['k']:g} x 1.4826 MAD over the series "
                             f"(at least {stats.MIN_FOR_OUTLIERS} devices)",
             "k": prod["k"], "acceptance": acc, "models": models}
@@ -134,7 +135,7 @@ def format_production(prod: dict, accept: dict | None, shown: int = 8) -> str:
         lines.append(f"  law {spec}: {text}")
     if accept is not None:
         s = accept["settings"]
-        if not accept["models"]:
+        if accept.get("why_not"):
             lines.append("  acceptance: no nominal force (give acceptance: {nominal_force: KN} in the campaign file)")
         else:
             lines.append(f"Acceptance at {s['velocity']:g} mm/s: nominal {accept['nominal_force']:.4g} kN "
@@ -144,6 +145,7 @@ def format_production(prod: dict, accept: dict | None, shown: int = 8) -> str:
                 lines.append(f"  law {spec}: {int(a['passed'].sum())}/{len(devices)} pass"
                              + (f"; fail: {', '.join(failed[:shown])}{' ...' if len(failed) > shown else ''}"
                                 if failed else ""))
+        lines += [f"  law {spec}: not checked ({why})" for spec, why in accept.get("skipped", {}).items()]
     return "\n".join(lines)
 
 

@@ -279,3 +279,21 @@ def test_bounds_scale_the_dampers_sized_on_the_nominal(series, shared_dir, tmp_p
         assert damping["achieved"] == pytest.approx(0.1 * lam, rel=0.2)
     achieved = {b: c["supplemental_damping"]["achieved"] for b, c in cases.items()}
     assert achieved["lower"] < achieved["nominal"] < achieved["upper"]
+
+
+def test_a_model_fitted_per_test_is_not_checked_against_the_nominal():
+    """The acceptance as the bounds: a model with a parameter fitted per test is left out with the
+    reason (it crashed on the per-test layout), in the result, the terminal lines and the JSON."""
+    from fvd_bridge import Record
+    from fvd_bridge.campaign import acceptance, production
+    from fvd_bridge.campaign.acceptance import Acceptance
+    from fvd_bridge.campaign.runner import CampaignSettings
+
+    t = np.arange(0, 4, 0.01)
+    rec = Record.from_arrays(t, 20 * np.sin(2 * np.pi * t), 50 * np.cos(2 * np.pi * t))
+    cs = CampaignSettings(specs=("2",), per_test=((None, "alpha"),))
+    a = acceptance.evaluate({"devices": [rec.name], "models": {"2": {}}}, [rec], cs, Acceptance(nominal_force=50.0))
+    assert a["models"] == {} and "alpha fitted per test" in a["skipped"]["2"]
+    prod = {"devices": [rec.name], "k": 3.0, "models": {}}
+    assert "law 2: not checked (alpha fitted per test" in production.format_production(prod, a)
+    assert "alpha fitted per test" in production.as_json(prod, a)["acceptance"]["skipped"]["2"]
