@@ -145,7 +145,7 @@ def evaluate(summary: dict, records, cs, acc: Acceptance, nominal_device=None) -
     devices = summary["devices"]
     for spec, m in summary["models"].items():
         per_test = cs.per_test_for(spec)
-        if per_test:  # a test's force is not the device's (as the bounds: campaign.bounds)
+        if per_test:  # a test's force is not the device's (as the bounds: campaign.property_bounds)
             out.setdefault("skipped", {})[spec] = (
                 f"{', '.join(per_test)} fitted per test: the force at the design velocity is each test's, not the "
                 f"device's, so law {spec} is not checked against the nominal")

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import yaml
 
-from ..campaign import bounds as series_bounds
+from ..campaign import property_bounds as series_bounds
 from ..campaign.acceptance import Acceptance, series_motion
 from ..campaign.outputs import write_outputs
 from ..campaign.report import format_report
@@ -305,7 +305,7 @@ def design_acceptance(args) -> Acceptance:
 
 
 def bounds_text(bounds: dict, devices: int) -> str:
-    """The series' bounds as campaign prints them (campaign.bounds.format_bounds);
+    """The series' bounds as campaign prints them (campaign.property_bounds.format_bounds);
     with one device, one line saying what bounds.json holds (and one per model without bounds)."""
     if devices >= 2:
         return series_bounds.format_bounds(bounds)

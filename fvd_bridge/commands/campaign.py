@@ -13,7 +13,7 @@ The campaign file (YAML; relative paths are relative to the file):
     out: series_out
     acceptance: {velocity: 500, nominal_force: 300, tolerance: 0.15}   # all optional
     outliers: {k: 3.5}
-    bounds: {spec: 0.15, statistic: extremes}  # upper/lower-bound factors (campaign.bounds)
+    bounds: {spec: 0.15, statistic: extremes}  # upper/lower-bound factors (campaign.property_bounds)
     executor: local                            # or dask; --executor wins
     scheduler: tcp://host:8786                 # dask only; --scheduler wins
 
@@ -34,7 +34,7 @@ import sys
 
 import yaml
 
-from ..campaign import acceptance, bounds, production
+from ..campaign import acceptance, production, property_bounds as bounds
 from ..campaign.acceptance import Acceptance
 from ..campaign.executors import Dask, Processes
 from ..campaign.outputs import write_outputs

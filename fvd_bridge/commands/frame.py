@@ -159,7 +159,7 @@ def load_inputs(args):
             raise InputError(f"--laws {args.laws}: none of the calibration files holds these models")
     cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's
     if args.bounds is not None:
-        from ..frames.bounds import read_bounds
+        from ..frames.property_bounds import read_bounds
 
         args.bounds_read = read_bounds(args.bounds)
         for cal in cals:

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..report.names import common_form, distinct
 from ..report.numbers import rounded, share
-from . import bounds as damper_bounds
+from . import property_bounds as damper_bounds
 from .verdict import SMALL_DAMPING, VERDICT_TOLERANCE, choice, nominal
 
 #: significant digits of the answer's numbers

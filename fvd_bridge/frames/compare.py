@@ -27,7 +27,7 @@ from ..records.cycles import reversals
 from ..records.readers import read_as_stored
 from ..export.opensees import opensees_export
 from . import decay, sizing
-from .bounds import expand
+from .property_bounds import expand
 from .analysis import FrameResult, run_frame
 from .model import DAMPER_TAGS_FROM
 
@@ -63,7 +63,7 @@ class Case:
     scale: float = 1.0  # each damper is the calibrated device with its force times this
     design: object = None  # sizing.Design: its dampers in the first mode's design cycle (energy method)
     achieved: float | None = None  # supplemental damping ratio [-] the frame achieved (free-vibration decay)
-    bound: str | None = None  # 'nominal', 'upper', 'lower' with frame --bounds (frames.bounds); None without
+    bound: str | None = None  # 'nominal', 'upper', 'lower' with frame --bounds (frames.property_bounds); None without
     bound_lambda: float = 1.0  # the bound's factor on the nominal damper's force [-]
     # what the dampers went beyond (``_exceeded``), as data: {'quantity', 'value', 'limit', 'unit',
     # 'against': 'tested' (the calibration's tested range) or 'given' (--stroke-limit, --force-limit), 'where'}
@@ -180,7 +180,7 @@ def run_cases(building, motion, calibrations, *, stroke_limit=None, force_limit=
     (``cosim.cosimulate_frame``, explicit scheme: the frame takes the forces
     of the step before), its note saying so; one the FMU cannot carry
     either is kept as a case without result, its note saying why.
-    ``bounds`` (frames.bounds.Bounds): each calibration runs as its nominal,
+    ``bounds`` (frames.property_bounds.Bounds): each calibration runs as its nominal,
     upper- and lower-bound damper (``bounds.expand``).  A calibration with
     parameters fitted per test is refused: take one test's first
     (``Calibration.for_test``)."""
@@ -217,7 +217,7 @@ def run_cases(building, motion, calibrations, *, stroke_limit=None, force_limit=
             case.design = sizing.design(mode, cal, drift, target_damping, per_story * case.scale)
             if target_damping is not None:
                 case.scale = case.design.factor / per_story * case.bound_lambda
-                # a bound's dampers: the nominal's sized ones times its factor (frames.bounds)
+                # a bound's dampers: the nominal's sized ones times its factor (frames.property_bounds)
                 case.design = replace(case.design, factor=case.design.factor * case.bound_lambda)
                 case.limits = _limits(cal, stroke_limit, force_limit, case.scale)
                 if progress:

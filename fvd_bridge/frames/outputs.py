@@ -20,7 +20,7 @@ import numpy as np
 from ..io.staging import num, safe_name, staged_dir, write_csv_rows, write_json
 from ..report.names import common_form, distinct
 from ..report.numbers import rounded, share, with_unit
-from . import bounds as damper_bounds
+from . import property_bounds as damper_bounds
 from .answer import answer_lines, case_names, grouped_notes
 from .compare import QUANTITIES
 from .verdict import choice, nominal, series_spread, verdict_lines
@@ -34,7 +34,7 @@ def write_frame_outputs(out: str, building, motion, cases, figures: bool = True,
     share kept; 'sizing_command': the command line the verdict gives for
     sizing dampers too small to matter) into the summary; ``log``:
     OpenSees' own messages, kept as opensees.log; ``bounds``: the
-    frames.bounds.Bounds the cases ran with (the envelope: 'bounds').
+    frames.property_bounds.Bounds the cases ran with (the envelope: 'bounds').
     The summary's 'answer' (``answer.answer_lines``) is what the page opens
     with and the terminal ends with; 'notes' the cases' notes, one per kind
     (``answer.grouped_notes``: its text and the labels of the cases it

@@ -108,7 +108,7 @@ def verdict_lines(spread: dict, cases=(), resize: str | None = None) -> list[str
       size them (``resize``, a command line);
     - an analysis that did not reach its end (in ``cases``) is left out, and said so."""
     gone = unfinished(cases)
-    cases = nominal(cases)  # the bounds' own lines: frames.bounds.envelope_lines
+    cases = nominal(cases)  # the bounds' own lines: frames.property_bounds.envelope_lines
     left_out = [f"left out, the analysis did not reach its end: {'; '.join(gone)}"] if gone else []
     if not spread:
         return ["no damper model ran to the end"] + left_out

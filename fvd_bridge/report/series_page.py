@@ -10,7 +10,7 @@ import os
 from html import escape
 
 from ..campaign import acceptance as series_acceptance
-from ..campaign import bounds as series_bounds
+from ..campaign import property_bounds as series_bounds
 from .html import NOTE_CHARS, table
 from .numbers import cell, rounded
 from .parts import figure, read_json

@@ -70,7 +70,7 @@ def make_fixture(root) -> tuple:
     with --target-damping 0.2 --bounds; (its folder, its stdout)."""
     from fvd_bridge import calibrate
     from fvd_bridge.campaign.acceptance import Acceptance, design_motion
-    from fvd_bridge.campaign.bounds import FORCE, design_forces
+    from fvd_bridge.campaign.property_bounds import FORCE, design_forces
     from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
 
     rec = simulate(VirtualDamper(C=44.0, alpha=0.3, name=DEVICE), paper(cycles=3), Noise(force=1.0, displacement=0.005),

@@ -2,7 +2,7 @@
 device, and the envelope of the frame's response over the three.
 
 The factors (``read_bounds``) come from the bounds.json a campaign or
-calibrate writes (``campaign.bounds``: per model lambda_min and lambda_max of the force at
+calibrate writes (``campaign.property_bounds``: per model lambda_min and lambda_max of the force at
 the design velocity, the series' nominal force there and the design
 motion) or are given as two numbers LMIN,LMAX for every model.  The
 bounds scale the damper's whole force (OpenSees' ``Multiplier``, as
@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..campaign.acceptance import Acceptance, design_motion
-from ..campaign.bounds import FORCE, RULE, SOURCE, design_forces
+from ..campaign.property_bounds import FORCE, RULE, SOURCE, design_forces
 from ..errors import InputError
 from ..report.numbers import rounded, share
 

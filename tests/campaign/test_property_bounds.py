@@ -1,5 +1,5 @@
-"""Upper- and lower-bound damper properties of a series (campaign.bounds) and
-`frame --bounds` (frames.bounds): the factors against hand-computed values,
+"""Upper- and lower-bound damper properties of a series (campaign.property_bounds) and
+`frame --bounds` (frames.property_bounds): the factors against hand-computed values,
 a rig series' force bounds against each device's C V^alpha, and the frame's
 envelope on a five-device series (upper bound governs the damper force,
 lower bound the drift)."""
@@ -14,9 +14,9 @@ import pytest
 import yaml
 
 from conftest import CLI, cli_env
-from fvd_bridge.campaign.bounds import BoundSettings, combined, scatter_factors
+from fvd_bridge.campaign.property_bounds import BoundSettings, combined, scatter_factors
 from fvd_bridge.errors import InputError
-from fvd_bridge.frames.bounds import read_bounds
+from fvd_bridge.frames.property_bounds import read_bounds
 
 #: five rig devices of a power-law damper (law 2), 5% scatter of C, small DE settings (a few seconds)
 SERIES = {
@@ -121,7 +121,7 @@ def test_calibrate_of_the_series_writes_the_campaigns_bounds(series, tmp_path):
     """calibrate on the campaign's records with its settings (the design velocity its acceptance's) writes the
     campaign's bounds.json and bounds.csv, and frame --bounds reads calibrate's folder as it reads the campaign's."""
     from fvd_bridge.calibration import Calibration
-    from fvd_bridge.frames.bounds import nominal_ratio
+    from fvd_bridge.frames.property_bounds import nominal_ratio
 
     folder, out, _ = series
     records = sorted((out / "records").glob("device_*.csv"))
@@ -169,7 +169,7 @@ def test_a_model_fitted_per_test_has_no_bounds_and_says_why(tmp_path):
     """A parameter fitted per test: the force at the design velocity is a test's, so the series has no bounds of
     that model; bounds.json says why and frame --bounds repeats it (no fit needed: the model is left out first)."""
     from fvd_bridge import Record
-    from fvd_bridge.campaign import bounds
+    from fvd_bridge.campaign import property_bounds as bounds
     from fvd_bridge.campaign.acceptance import Acceptance
     from fvd_bridge.campaign.runner import CampaignSettings
 
