@@ -319,6 +319,7 @@ def _diagnosis_sections(out: str) -> str:
         lines = [step] if step else []
         parts += [f"<section class='diagnosis'><h2>diagnosis of {escape(model)} on {escape(rep['record'])}</h2>",
                   f"<p class='answer'><b>Verdict:</b> {escape(rep.get('verdict', ''))}</p>",
+                  _target_line(target, rep.get("left_out")),
                   f"<p>law {escape(model)} alone: {escape(_how_good(rep['of'], rep.get('noise_floor_of')))}."
                   + (f" Calibration files written: {escape(', '.join(files.values()))}." if files else "") + "</p>",
                   _next(lines),
@@ -328,6 +329,18 @@ def _diagnosis_sections(out: str) -> str:
                   zero_table(rep["force_zero"], model) if rep.get("force_zero") else "",
                   *[figure(p) for p in figs], "</section>"]
     return "\n".join(p for p in parts if p)
+
+
+def _target_line(target: str | None, left: dict | None) -> str:
+    """Where the diagnosis was told the model must go (diagnose --target), and what that left out."""
+    if not target:
+        return ""
+    name = EXPORT_TARGETS.get(target, target)
+    out = f"<b>Target:</b> {escape(name)}: only what exports there is suggested"
+    if left:
+        out += (f"; left out: {escape(left['spec'])} (OF {rounded(left['of'])}), which does not reach "
+                f"{escape(name)}: {escape(left['why'])}")
+    return f"<p>{out}.</p>"
 
 
 def _compare_sections(out: str) -> str:

@@ -394,6 +394,7 @@ def test_target_ranks_only_what_reaches_it(friction_csv, tmp_path, capsys):
     page = (tmp_path / "d" / "report.html").read_text()
     diagnosis = page.split("<section class='diagnosis'>")[1].split("</section>")[0]
     assert "does not reach SAP2000" in diagnosis and "fvd-bridge export" not in diagnosis  # the page follows it
+    assert "<b>Target:</b> SAP2000" in diagnosis and "left out: 2+friction" in diagnosis
 
 
 def test_target_refuses_an_unknown_one_in_one_line(friction_csv, tmp_path, capsys):
