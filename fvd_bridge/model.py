@@ -289,10 +289,8 @@ class Model:
         law, form = self.law, self.law.opensees
         if form is None:
             return f"law {law.key} ({law.name})"
-        if params is not None and form.refuse:
-            reason = form.refuse({n: float(params[n]) for n in law.names})
-            if reason:
-                return reason
+        if refused := self._values_refused(params):
+            return refused
         active = self.active_effects(params)
         inside = inside_connection(Model(law, tuple(active)))
         series = [e for e in active if e.stage == "series"]
@@ -315,6 +313,14 @@ class Model:
                 return f"{e.name} of law {law.key} (TensionOnly loses its state in compression)"
         return ""
 
+    def _values_refused(self, params: dict | None) -> str:
+        """Why the law's parameter values cannot be exported ('' when they can;
+        its OpenSees form's ``refuse``, which the CSI links share: law 7 with beta != 1)."""
+        form = self.law.opensees
+        if params is None or form is None or form.refuse is None:
+            return ""
+        return form.refuse({n: float(params[n]) for n in self.law.names})
+
     def fmu_refusal(self) -> str:
         """Why the FMU cannot carry this model ('' when it can)."""
         if not self.law.fmu:
@@ -334,13 +340,11 @@ class Model:
         params : dict, optional
             {name: value}, as for ``opensees_refusal``.
         """
-        law, form = self.law, self.law.opensees
+        law = self.law
         if not law.csi:
-            return f"law {law.key} ({law.name}): no CSI damper link (laws 1, 2, 7 with beta 1, 10 only)"
-        if params is not None and form is not None and form.refuse:
-            reason = form.refuse({n: float(params[n]) for n in law.names})
-            if reason:
-                return reason
+            return f"law {law.key} ({law.name})"
+        if refused := self._values_refused(params):
+            return refused
         other = [e.name for e in self.active_effects(params) if not (e.stage == "series" and e.slots == ("Ks",))]
         return (f"effect '{other[0]}' (a CSI {law.csi} link is a spring in series with the dashpot, nothing else)"
                 if other else "")

@@ -46,7 +46,7 @@ from ..catalog import parse_model
 from ..errors import InputError, command, option, words
 from ..model import Model
 from ..units import in_system, unit_system
-from .opensees import SOLVING_DEFLECTION
+from .opensees import SOLVING_DEFLECTION, stiff_spring
 
 #: the link names a law's ``csi`` declares
 EXPONENTIAL, BILINEAR = "Damper - Exponential", "Damper - Bilinear"
@@ -242,7 +242,7 @@ def _native(model: Model, p: dict, tested: dict, deflection: float) -> tuple[dic
     if not d or not v:
         raise InputError(f"model {model.spec}: no series spring and no tested stroke and velocity to size the "
                          f"stiff spring a CSI damper link needs")
-    k = c * v ** cexp / (deflection * d)
+    k = stiff_spring(c * v ** cexp, d, deflection)
     rule = ", as export.opensees.solving_springs" if deflection == SOLVING_DEFLECTION else ""
     return {"k": k, "c": c, "cexp": cexp}, (
         f"the model has no series spring (or a rigid one): a stiff spring that deflects {100 * deflection:g}% of "

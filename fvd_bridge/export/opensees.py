@@ -77,15 +77,21 @@ step late), and a gap without a series spring gets a contact spring
 g/A 0.025 to 0.4, springs 150 kN/mm to rigid, s up to 0.025) and 0.0156 on
 the golden motion (g/A 0.04, s 0.0113).
 
+Behind laws 3-6, 8, 9 a connection (series_stiffness, gap: SeriesMaterial
+passes no strain rate to its members) is a second material through an
+internal node (``Export.connection``): the dead zone Ks dz(w, g/2) as an
+ElasticMultiLinear (Elastic Ks without a gap), the law with the effects
+inside the connection as material ``tag``; ``--check`` drives the two in
+zeroLength elements (``opensees_check.drive_element``, TRBDF2).
+
 Not expressible (InputError; use the FMU export): law 7 with beta != 1 (a
-power-law spring behind the dashpot); series_stiffness on laws 3-6, 8, 9
-(SeriesMaterial passes no strain rate to its members); friction, the
-accumulator or asymmetry inside the series spring (series_stiffness;
-oil_column holds the seal and accumulator beside it); asymmetry of laws 6-9 (TensionOnly does not commit
-a state under compression); a gap behind laws 3-6, 8, 9 (SeriesMaterial
-passes no strain rate to the law; only ViscousDamper's LGap holds a
-clearance) or with an effect inside it (friction, a parallel spring,
-asymmetry: no force passes the clearance, LGap zeroes its own only); thermal
+power-law spring behind the dashpot); laws 3-5 behind a connection with
+alpha < NEWTON_ALPHA (their Viscous dashpot defeats Newton at the internal
+node); friction, the accumulator or asymmetry inside the ViscousDamper of
+laws 1, 2, 7 (series_stiffness or gap; oil_column holds the seal and
+accumulator beside it); behind laws 3-9, an effect beside the connection;
+asymmetry of laws 6-9 (TensionOnly does not commit a state under
+compression); thermal
 softening (no material softens with dissipated energy); inertia (a mass, not
 a material); plugin effects.  Effects at their 'off' values are left out.
 """
@@ -118,6 +124,15 @@ CONTACT_DEFLECTION = 0.001
 #: the solving spring deflects this share of the tested stroke under the
 #: dashpot's force at the tested velocity
 SOLVING_DEFLECTION = 0.005
+
+
+def stiff_spring(force: float, stroke: float, share: float) -> float:
+    """Ks [force/length] of a spring that deflects ``share`` of ``stroke``
+    under ``force``: Ks = force / (share stroke).  The solving spring behind
+    a Newton-defeating dashpot (force C v^alpha at the tested velocity,
+    SOLVING_DEFLECTION), a rigid pin's contact (the tested force,
+    CONTACT_DEFLECTION) and a CSI link's stiff spring use this one rule."""
+    return force / (share * stroke)
 
 
 def step_ratio(d) -> float:
@@ -241,8 +256,8 @@ def opensees_export(model, params: dict, tag: int = 1, units=None, tested: dict 
     series = {e.name: own(e) for e in active if e.stage == "series"}
     clearance = series.get("gap", {}).get("g", 0.0)
     Ks = _connection_spring(s, model.spec, series, tested, system) if series else None
-    connection = 0
-    if series and form.series is not None:  # one material: ViscousDamper (its LGap for the clearance)
+    two = bool(series) and form.series is None  # the connection and the law as two materials in series
+    if series and not two:  # one material: ViscousDamper (its LGap for the clearance)
         if clearance > 0.0:
             s.notes.append(f"pin gap {clearance:.4g} {system['d']} as ViscousDamper's LGap (force zero over that "
                            f"travel after each force reversal, the Maxwell state then restarted)")
@@ -253,8 +268,8 @@ def opensees_export(model, params: dict, tag: int = 1, units=None, tested: dict 
         element = e.opensees.build(s, element, own(e))
     tags = [element] + [e.opensees.build(s, own(e)) for e in active if e.stage == "parallel"]
     top = s.parallel(tags)
-    if series and form.series is None:  # two materials in series: the connection, then the law with its effects
-        connection = _dead_zone(s, Ks, 0.5 * clearance).offset
+    connection = _dead_zone(s, Ks, 0.5 * clearance).offset if two else 0  # after the law: the law is `tag`
+    if two:
         s.notes.append("two materials in series through an internal node: the connection (material tag + "
                        f"{connection}: {'the pin gap ' if clearance else ''}dead zone and spring) and the law "
                        "(material tag)")
@@ -297,7 +312,7 @@ def contact_stiffness(spec: str, tested: dict | None) -> float:
         raise InputError(f"model {spec}: a pin gap without a series spring needs the tested stroke and force "
                          f"for its contact spring (opensees_export(..., tested={{'d': mm, 'F': kN}}), as "
                          f"Calibration.to_opensees passes them)")
-    return float(tested["F"]) / (CONTACT_DEFLECTION * float(tested["d"]))
+    return stiff_spring(float(tested["F"]), float(tested["d"]), CONTACT_DEFLECTION)
 
 
 def _newton_defeating(c) -> bool:
@@ -322,7 +337,7 @@ def solving_springs(export: Export, stroke: float | None, velocity: float | None
     for c in export.commands:
         if _newton_defeating(c):
             C, alpha = float(c[3]), float(c[4])
-            Ks = C * v ** alpha / (SOLVING_DEFLECTION * d)
+            Ks = stiff_spring(C * v ** alpha, d, SOLVING_DEFLECTION)
             c = ("uniaxialMaterial", "ViscousDamper", c[2], Ks, C, alpha)
             springs.append(f"Viscous {C:.6g} {alpha:.4g} behind Ks {Ks:.6g} {export.units['F']}/{export.units['d']}")
         commands.append(c)
