@@ -17,7 +17,7 @@ import numpy as np
 
 from .effects.catalog import EFFECTS
 from .effects.compose import composed_force, inside_connection
-from .errors import InputError
+from .errors import InputError, option
 from .laws import Law
 from .laws.opensees_forms import NEWTON_ALPHA
 
@@ -25,6 +25,13 @@ from .laws.opensees_forms import NEWTON_ALPHA
 EXPORT_TARGETS = {"opensees": "OpenSees", "fmu": "FMU", "sap2000": "SAP2000", "etabs": "ETABS"}
 #: the file ``fvd-bridge export TARGET`` writes in the commands printed next
 EXPORT_FILES = {"opensees": "damper.py", "fmu": "damper.fmu", "sap2000": "damper.s2k", "etabs": "damper.e2k"}
+
+
+def export_target(target: str | None) -> str | None:
+    """``target`` checked against EXPORT_TARGETS (None: anywhere); InputError in the caller's words."""
+    if target is not None and target not in EXPORT_TARGETS:
+        raise InputError(f"{option('--target', target)}: expected one of {', '.join(EXPORT_TARGETS)}")
+    return target
 
 
 def export_step(exports: dict, path: str, target: str | None = None) -> str:

@@ -18,7 +18,7 @@ from .. import timing
 from ..fit import DEFAULT_OPTIMIZER
 from ..fit.intervals import REPLICATES, replicates
 from ..io.staging import check_output, safe_name, staged_dir
-from ..model import EXPORT_TARGETS, export_step
+from ..model import export_step, export_target
 from ..records.device import Device
 from .calibrate import unique_names
 from .common import READING, add_record_options, read_records
@@ -77,8 +77,7 @@ def run(args) -> int:
     from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
 
     check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
-    if args.target is not None and args.target not in EXPORT_TARGETS:
-        raise InputError(f"--target {args.target}: expected one of {', '.join(EXPORT_TARGETS)}")
+    export_target(args.target)  # before any work
     replicates(args.intervals)
     for name in ("pop", "gens", "max_rungs"):
         value = getattr(args, name)

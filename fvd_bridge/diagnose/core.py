@@ -32,13 +32,13 @@ import numpy as np
 
 from ..catalog import catalog as default_catalog
 from .. import timing
-from ..errors import InputError, option
+from ..errors import InputError
 from ..fit import DEFAULT_OPTIMIZER, evaluate_params, fit_model, polish_model, settings_for
 from ..fit.layout import Layout
 from ..fit.objective import NEAR_FLOOR
 from ..fit.intervals import REPLICATES, intervals as bootstrap
 from ..fit.result import Parent
-from ..model import EXPORT_TARGETS
+from ..model import EXPORT_TARGETS, export_target
 from ..records.device import as_device
 from . import where as where_mod
 from . import agree, zero as zero_mod
@@ -392,8 +392,7 @@ def diagnose(record, model, *, seed: int = 0, settings=None, base_fit=None, cand
     earlier diagnosis of the same record computed it.  ``target``: suggest
     only what exports there (``EXPORT_TARGETS``; None: anywhere)."""
     t0 = time.perf_counter()
-    if target is not None and target not in EXPORT_TARGETS:
-        raise InputError(f"{option('--target', target)}: expected one of {', '.join(EXPORT_TARGETS)}")
+    export_target(target)
     settings = settings or diagnose_settings()
     catalog = catalog or default_catalog()
     if isinstance(model, str):
