@@ -226,7 +226,7 @@ def run_one(rec: Record, effect: str, seed: int) -> dict:
         "of_base": diag.of, "floor": diag.floor, "force_floor": float(diag.noise.force_floor),
         "margin": float(diag.judge.margin), "band": float(getattr(diag.judge, "band", math.nan)),
         "n": int(diag.judge.n), "at_floor": bool(diag.at_floor),
-        "base_params": diag.params(), "noise": _plain(diag.noise.as_dict()),
+        "base_params": diag.named(), "noise": _plain(diag.noise.as_dict()),
         "best": best, "ranked_first": cands[0]["effect"] if cands else None,
         "detected": effect != FREE and best in names,
         "false": best is not None and best not in names,

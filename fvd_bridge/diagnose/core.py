@@ -251,7 +251,7 @@ class Diagnosis:
 
     def target_refusal(self) -> str:
         """Why the diagnosed model itself does not reach the ``target`` ('' when it does or there is none)."""
-        return self.model.exports(self.params())[self.target] if self.target else ""
+        return self.model.exports(self.named())[self.target] if self.target else ""
 
     @property
     def advice(self) -> agree.PerTest | None:
@@ -275,13 +275,19 @@ class Diagnosis:
         """
         return self.fit.on_bound(tol)
 
+    @property
     def params(self) -> dict:
-        """{name: value} of the diagnosed model's fit [each its unit]."""
+        """{name: FittedParameter} of the diagnosed model's fit (``FitResult.parameters``):
+        the estimate [its unit], the search bounds, fixed; as ``Calibration.params``."""
+        return self.fit.parameters
+
+    def named(self) -> dict:
+        """{name: value} of the diagnosed model's fit [each its unit], as ``Calibration.named``."""
         return self.fit.named()
 
     def units(self) -> dict:
-        """{name: unit} of the diagnosed model's parameters."""
-        return {n: p.unit for n, p in self.fit.parameters.items()}
+        """{name: unit} of the diagnosed model's parameters (a ladder's rung and ``as_dict`` carry them)."""
+        return {n: p.unit for n, p in self.params.items()}
 
     def as_dict(self) -> dict:
         """The --json report: model, of, noise_floor_of, candidates (only those
@@ -305,7 +311,7 @@ class Diagnosis:
             "per_test": list(self.per_test),
             "agreement": None if self.agreement is None else self.agreement.as_dict(),
             "force_zero": None if self.zero is None else self.zero.as_dict(),
-            "params": self.params(),
+            "params": self.named(),
             "units": self.units(),
             "on_bound": [list(x) for x in self.on_bound()],
             "where": self.where.as_dict(),

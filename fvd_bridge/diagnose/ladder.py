@@ -63,7 +63,7 @@ def climb(record, model, *, seed: int = 0, settings=None, max_rungs: int | None 
     diag = diagnose(record, model, seed=seed, settings=settings, progress=progress, parent=None, catalog=catalog,
                     per_test=per_test, target=target)
     lad.diagnoses.append(diag)
-    lad.rungs.append(Rung(diag.spec, diag.of, None, diag.params(), diag.units()))
+    lad.rungs.append(Rung(diag.spec, diag.of, None, diag.named(), diag.units()))
     while True:
         if max_rungs is not None and len(lad.rungs) > max_rungs:
             lad.stop = f"after {max_rungs} added effect(s) ({option('--max-rungs')})"
@@ -88,7 +88,7 @@ def climb(record, model, *, seed: int = 0, settings=None, max_rungs: int | None 
                         progress=progress, parent=Parent(prev.spec, prev.of), catalog=catalog, per_test=per_test,
                         floors=prev.inputs.floors, target=target)
         lad.diagnoses.append(diag)
-        lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.params(),
+        lad.rungs.append(Rung(diag.spec, diag.of, (prev.of - diag.of) / prev.of, diag.named(),
                               diag.units(), best.explanation, best.effect))
     lad.wall_s = time.perf_counter() - t0
     return lad

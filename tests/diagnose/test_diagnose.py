@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import CLI, PLUGIN, REPO, cli_env
-from fvd_bridge import cli
+from fvd_bridge import FittedParameter, cli
 from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_ladder
 from fvd_bridge.fit import fit_model
 from fvd_bridge.fit.objective import AT_FLOOR, NEAR_FLOOR
@@ -241,9 +241,11 @@ def test_a_diagnosis_keeps_what_it_was_run_on(protocol, lab_dir):
     assert [r.how for r in diag.base_history] == ["fitted as calibrate"] and diag.base_history[0].of == diag.of
     with pytest.raises(dataclasses.FrozenInstanceError):
         i.seed = 5
-    assert diag.params() == {n: p.value for n, p in diag.fit.parameters.items()}
+    # as a Calibration speaks: .params the FittedParameters, .named() their values
+    assert diag.params == diag.fit.parameters and isinstance(diag.params["C"], FittedParameter)
+    assert diag.named() == {n: p.value for n, p in diag.params.items()} == diag.as_dict()["params"]
     assert diag.units() == {"C": "kN/(mm/s)^alpha", "alpha": "-"} == diag.as_dict()["units"]
-    assert list(diag.params()) == diag.fit.names and diag.params()["C"] == pytest.approx(C, rel=0.03)
+    assert list(diag.named()) == diag.fit.names and diag.named()["C"] == pytest.approx(C, rel=0.03)
 
 
 @pytest.mark.slow
@@ -347,7 +349,7 @@ def test_api_diagnose_per_test_and_the_ladder(disagreeing_tests):
     assert [r.spec for r in stopped.rungs] == ["2"] and stopped.stop == diag.verdict()
     freed = fb.diagnose(records, "2", device="dev", per_test=["C"])
     assert freed.per_test == ("C",) and freed.advice is None
-    assert freed.params()["C@dev_b"] == pytest.approx(48.0, rel=0.03)
+    assert freed.named()["C@dev_b"] == pytest.approx(48.0, rel=0.03)
     assert all("C@dev_b" in c.fit.names for c in freed.candidates)
     lad = freed.ladder()
     assert [r.spec for r in lad.rungs] == ["2"] and "noise floor" in lad.stop

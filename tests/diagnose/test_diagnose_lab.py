@@ -327,7 +327,7 @@ def test_tests_that_disagree_on_one_parameter_get_the_per_test_advice(folder):
     # given --per-test C, base and candidates fit C per test: nothing is left to explain
     freed = diagnose(two_tests(folder, "differ", C_second=48.0), "2", seed=0, settings=SETTINGS, per_test=["C"])
     assert freed.per_test == ("C",) and freed.advice is None, format_diagnosis(freed)
-    assert freed.params()["C@differ_b"] == pytest.approx(48.0, rel=0.03)
+    assert freed.named()["C@differ_b"] == pytest.approx(48.0, rel=0.03)
     assert freed.of == pytest.approx(diag.advice.of, rel=0.01) and freed.at_floor
     assert all(set(c.fit.names) >= {"C", "C@differ_b"} for c in freed.candidates)
 
