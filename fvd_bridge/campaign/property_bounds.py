@@ -36,7 +36,7 @@ parameter whose mean over the devices is near zero (``stats.near_zero``)
 or not positive has no factor (NaN, with the note why); with one device
 lambda_test = 1 (no scatter to measure).  A model with a parameter fitted
 per test has no bounds (its force at the design velocity is a test's, not
-the device's): bounds.json's ``skipped`` says so.  The frame (``frame --bounds``)
+the device's): bounds.json's ``skipped`` says so.  The frame (``frame --property-bounds``)
 scales the damper's whole force by the force's factors (OpenSees'
 ``Multiplier``); the parameters' factors are for the record: bounding
 each parameter alone does not bound the force (a larger exponent alpha
@@ -46,7 +46,7 @@ Files (in the campaign's output): bounds.csv (model, quantity, unit,
 nominal, lambda_test_min/max, lambda_min/max, lower, upper, note) and
 bounds.json (settings, rule, source, the design motion, per model its
 nominal device and rows, the models without bounds and why; what
-``frame --bounds`` reads).  ``campaign`` and ``calibrate`` both write
+``frame --property-bounds`` reads).  ``campaign`` and ``calibrate`` both write
 them, with ``compute`` and ``write``.
 """
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import glob
 import os
 import sys
@@ -59,12 +60,13 @@ def add_parser(sub):
     p.add_argument("--design-drift", type=float, metavar="RATIO",
                    help="roof drift ratio the dampers are sized at and their damping estimated at, e.g. 0.01 "
                         "(default: the bare frame's peak under the record)")
-    p.add_argument("--bounds", metavar="OUT|LMIN,LMAX",
-                   help="also run each damper as its upper- and lower-bound device and report the envelope of "
-                        "drift and damper force with the bound that governs each: a campaign's or calibrate's "
-                        "output folder (or its bounds.json: each model's factors on the force at the design "
-                        "velocity, the device first brought to the series' nominal force) or two factors, "
-                        "e.g. 0.85,1.2")
+    p.add_argument("--property-bounds", metavar="OUT|LMIN,LMAX",
+                   help="also run each damper as its upper- and lower-bound device (ASCE 7's maximum and minimum "
+                        "damper properties) and report the envelope of drift and damper force with the bound "
+                        "that governs each: a campaign's or calibrate's output folder (or its bounds.json: each "
+                        "model's factors on the force at the design velocity, the device first brought to the "
+                        "series' nominal force) or two factors, e.g. 0.85,1.2")
+    p.add_argument("--bounds", dest="property_bounds", action=OldBoundsOption, help=argparse.SUPPRESS)
     p.add_argument("--building", default="3-story", choices=BUILDINGS, help="frame (default 3-story)")
     p.add_argument("--laws", help="only these models, e.g. 2,9 or 2+friction (default all given)")
     p.add_argument("--rank-on", metavar="FILE",
@@ -83,6 +85,16 @@ def add_parser(sub):
     add_test_option(p)
     add_plugin_option(p)
     p.set_defaults(func=run)
+
+
+class OldBoundsOption(argparse.Action):
+    """``--bounds``, frame's old name of ``--property-bounds`` (``--bounds`` alone is calibrate's search
+    box): still read, with a one-line note on stderr."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print("note: frame --bounds is now --property-bounds (--bounds is calibrate's search box); "
+              "the old name still works", file=sys.stderr)
+        setattr(namespace, self.dest, values)
 
 
 def calibration_files(paths) -> list[str]:
@@ -158,12 +170,12 @@ def load_inputs(args):
         if not cals:
             raise InputError(f"--laws {args.laws}: none of the calibration files holds these models")
     cals = [cal.for_test(args.test if cal.per_test else None) for cal in cals]  # per test: --test's
-    if args.bounds is not None:
+    if args.property_bounds is not None:
         from ..frames.property_bounds import read_bounds
 
-        args.bounds_read = read_bounds(args.bounds)
+        args.property_bounds_read = read_bounds(args.property_bounds)
         for cal in cals:
-            args.bounds_read.factors(cal.spec)  # every model has factors: refused before any analysis
+            args.property_bounds_read.factors(cal.spec)  # every model has factors: refused before any analysis
     motion = read_motion(args.record, component=args.component, units=args.units)
     if args.duration:
         whole = motion
@@ -185,8 +197,8 @@ def sizing_command(args, target: float = 0.20) -> str:
     import shlex
 
     words = ["fvd-bridge", "frame", *args.params, "--record", args.record]
-    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift", "bounds",
-                 "test"):
+    for name in ("component", "units", "scale_pga", "duration", "rank_on", "laws", "design_drift",
+                 "property_bounds", "test"):
         if getattr(args, name) is not None:
             words += [f"--{name.replace('_', '-')}", f"{getattr(args, name):g}" if isinstance(getattr(args, name), float)
                       else str(getattr(args, name))]
@@ -220,20 +232,22 @@ def run(args) -> int:
     dampers = f"{args.dampers_per_story} damper(s) per story" + (
         f", each the device x{args.scale_force:g} in force" if args.scale_force != 1.0 else "")
     progress(f"dampers: {dampers}; forces per damper")
-    if getattr(args, "bounds_read", None) is not None:
-        progress(f"bounds: {args.bounds_read.source}: each damper as nominal, upper- and lower-bound device")
+    bounds = getattr(args, "property_bounds_read", None)
+    if bounds is not None:
+        progress(f"property bounds: {bounds.source}: each damper as nominal, upper- and lower-bound device")
     try:
         with timing.stage("frame analyses"):
             cases = run_cases(building, motion, cals, stroke_limit=args.stroke_limit, force_limit=args.force_limit, progress=progress,
                               per_story=args.dampers_per_story, scale=args.scale_force, rank_on=rank_on,
                               target_damping=args.target_damping, design_drift=args.design_drift,
-                              bounds=getattr(args, "bounds_read", None))
+                              bounds=bounds)
         settings = {"dampers_per_story": args.dampers_per_story, "scale_force": args.scale_force,
                     "energy_kept": motion.source.get("energy_kept", 1.0), "target_damping": args.target_damping,
-                    "design_drift": args.design_drift, "sizing_command": sizing_command(args), "bounds": args.bounds}
+                    "design_drift": args.design_drift, "sizing_command": sizing_command(args),
+                    "bounds": args.property_bounds}
         with timing.stage("outputs, figures"):
             summary = write_frame_outputs(args.out, building, motion, cases, figures=not args.no_figures,
-                                          settings=settings, log=log.name, bounds=getattr(args, "bounds_read", None))
+                                          settings=settings, log=log.name, bounds=bounds)
     finally:
         os.unlink(log.name)
     print(format_frame_table(cases, summary["series"], summary["verdict_lines"], summary["answer"]))

@@ -3,7 +3,7 @@
 The report page opens with ``answer_lines`` and the terminal ends with them
 (issue 41): the damper (model, device, how many per story, its factor on
 the device's force and, where the dampers were sized, each story's force at
-its design velocity), the peak drift and damper force (with ``--bounds``
+its design velocity), the peak drift and damper force (with ``--property-bounds``
 the envelope and the bound that governs each), the supplemental damping of
 the first mode (achieved against the target where sized) and whether the
 dampers stayed inside what their calibration tested.  The numbers are the

@@ -63,7 +63,7 @@ class Case:
     scale: float = 1.0  # each damper is the calibrated device with its force times this
     design: object = None  # sizing.Design: its dampers in the first mode's design cycle (energy method)
     achieved: float | None = None  # supplemental damping ratio [-] the frame achieved (free-vibration decay)
-    bound: str | None = None  # 'nominal', 'upper', 'lower' with frame --bounds (frames.property_bounds); None without
+    bound: str | None = None  # 'nominal', 'upper', 'lower' with frame --property-bounds; None without
     bound_lambda: float = 1.0  # the bound's factor on the nominal damper's force [-]
     # what the dampers went beyond (``_exceeded``), as data: {'quantity', 'value', 'limit', 'unit',
     # 'against': 'tested' (the calibration's tested range) or 'given' (--stroke-limit, --force-limit), 'where'}

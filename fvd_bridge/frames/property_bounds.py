@@ -1,4 +1,4 @@
-"""``frame --bounds``: each damper as nominal, upper-bound and lower-bound
+"""``frame --property-bounds``: each damper as nominal, upper-bound and lower-bound
 device, and the envelope of the frame's response over the three.
 
 The factors (``read_bounds``) come from the bounds.json a campaign or
@@ -43,6 +43,8 @@ from ..campaign.property_bounds import FORCE, RULE, SOURCE, design_forces
 from ..errors import InputError
 from ..report.numbers import rounded, share
 
+#: the frame's option that reads the bounds (``--bounds`` alone is calibrate's search box)
+OPTION = "--property-bounds"
 #: the three dampers of each calibration, in the order they run
 BOUNDS = ("nominal", "upper", "lower")
 #: the bound expected to govern each quantity
@@ -76,9 +78,9 @@ class Bounds:
         """The factors of model ``spec``; InputError when the bounds have none."""
         found = self.models.get(spec) or self.models.get("*")
         if found is None and spec in (self.skipped or {}):
-            raise InputError(f"--bounds {self.source}: {self.skipped[spec]}")
+            raise InputError(f"{OPTION} {self.source}: {self.skipped[spec]}")
         if found is None:
-            raise InputError(f"--bounds {self.source}: no bounds for law {spec} (it has law "
+            raise InputError(f"{OPTION} {self.source}: no bounds for law {spec} (it has law "
                              f"{', '.join(self.models)}): give the campaign or calibrate folder that calibrated it, "
                              f"or LMIN,LMAX")
         return found
@@ -89,24 +91,24 @@ class Bounds:
 
 
 def read_bounds(text: str) -> Bounds:
-    """``--bounds``: a campaign's or calibrate's output folder, its bounds.json, or 'LMIN,LMAX'
+    """``--property-bounds``: a campaign's or calibrate's output folder, its bounds.json, or 'LMIN,LMAX'
     (0 < LMIN <= 1 <= LMAX) for every model; InputError naming the option otherwise."""
     path = os.path.join(text, "bounds.json") if os.path.isdir(text) else text
     if os.path.isfile(path):
         return _from_file(text, path)
     if os.path.isdir(text):
-        raise InputError(f"--bounds {text}: no bounds.json in it (a campaign's or calibrate's output folder holds one)")
+        raise InputError(f"{OPTION} {text}: no bounds.json in it (a campaign's or calibrate's output folder holds one)")
     parts = text.split(",")
     try:
         low, high = (float(p) for p in parts) if len(parts) == 2 else (None, None)
     except ValueError:
         low = high = None
     if low is None:
-        raise InputError(f"--bounds {text}: expected a campaign's or calibrate's output folder, its "
+        raise InputError(f"{OPTION} {text}: expected a campaign's or calibrate's output folder, its "
                          f"bounds.json, or LMIN,LMAX "
                          f"(e.g. 0.85,1.2)")
     if not (np.isfinite(low) and np.isfinite(high) and 0 < low <= 1 <= high):
-        raise InputError(f"--bounds {text}: factors LMIN,LMAX need 0 < LMIN <= 1 <= LMAX")
+        raise InputError(f"{OPTION} {text}: factors LMIN,LMAX need 0 < LMIN <= 1 <= LMAX")
     return Bounds(f"given factors {rounded(low, digits=3)}, {rounded(high, digits=3)}", {"*": Factors(low, high)})
 
 
@@ -123,11 +125,11 @@ def _from_file(text: str, path: str) -> Bounds:
         motion = {k: float(data[k]) for k in ("velocity", "amplitude", "dt", "cycles")}
         skipped = {str(spec): str(why) for spec, why in (data.get("skipped") or {}).items()}
     except (OSError, ValueError, KeyError, TypeError, StopIteration, AttributeError) as exc:
-        raise InputError(f"--bounds {text}: {path} is not the bounds.json of a campaign or calibrate "
+        raise InputError(f"{OPTION} {text}: {path} is not the bounds.json of a campaign or calibrate "
                          f"({type(exc).__name__}: {exc})") from None
     if not models:
         why = "; ".join(skipped.values())
-        raise InputError(f"--bounds {text}: {path} holds no model with force factors{f' ({why})' if why else ''}")
+        raise InputError(f"{OPTION} {text}: {path} holds no model with force factors{f' ({why})' if why else ''}")
     return Bounds(path, models, motion, skipped)
 
 
@@ -140,7 +142,7 @@ def nominal_ratio(bounds: Bounds, cal) -> float:
     motion = design_motion(Acceptance(velocity=m["velocity"], cycles=m["cycles"]), m["amplitude"], m["dt"])
     own = float(design_forces(cal.model, cal.values, motion)[0])
     if not own > 0:
-        raise InputError(f"--bounds {bounds.source}: law {cal.spec}'s force at {rounded(m['velocity'])} mm/s is "
+        raise InputError(f"{OPTION} {bounds.source}: law {cal.spec}'s force at {rounded(m['velocity'])} mm/s is "
                          f"{rounded(own)} kN: it cannot be brought to the nominal force")
     return f.nominal_force / own
 

@@ -50,7 +50,7 @@ def series_spread(cases) -> dict:
 
 
 def nominal(cases) -> list:
-    """The cases without bounds or of the nominal damper (``frame --bounds`` runs three per calibration)."""
+    """The cases without bounds or of the nominal damper (``frame --property-bounds`` runs three per calibration)."""
     return [c for c in cases if getattr(c, "bound", None) in (None, "nominal")]
 
 

@@ -12,14 +12,14 @@ def _specs(cases):
     return list(dict.fromkeys(c.spec for c in cases if c.spec is not None and c.result is not None))
 
 
-#: line styles of a damper's upper and lower bound (frame --bounds)
+#: line styles of a damper's upper and lower bound (frame --property-bounds)
 BOUND_STYLES = {"upper": ":", "lower": "-."}
 
 
 def drift_profiles(cases, title: str, path: str | None = None, ax=None):
     """Peak interstory drift ratio per story: the bare frame, per model the
     mean over the series' devices with its min-max band, and (frame
-    --bounds) the mean of its upper- and lower-bound dampers."""
+    --property-bounds) the mean of its upper- and lower-bound dampers."""
     fig, ax = axes(ax, 1, 2, figsize=(11, 5), layout="constrained")
     bare = next(c for c in cases if c.spec is None)
     stories = np.arange(1, bare.result.peak_drift_ratio.size + 1)

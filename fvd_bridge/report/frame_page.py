@@ -33,9 +33,9 @@ COLUMNS = (("drift", "drift", "%"), ("residual", "residual drift", "%"), ("pfa",
 CAPTIONS = {
     "drift_profiles.png": "Peak interstory drift per story (left) and peak floor acceleration per level (right); "
                           "the bare frame dashed, a series' spread as a band, the upper- and lower-bound dampers "
-                          "(--bounds) dotted and dash-dotted. Look at the gap between the bare frame and the damped "
-                          "profiles (what the dampers do) against the gap between the models (what the choice of "
-                          "model changes) and between the bounds (what the series' scatter changes).",
+                          "(--property-bounds) dotted and dash-dotted. Look at the gap between the bare frame and "
+                          "the damped profiles (what the dampers do) against the gap between the models (what the "
+                          "choice of model changes) and between the bounds (what the series' scatter changes).",
     "damper_hysteresis.png": "Force against deformation of the story-1 dampers (all of the story), first device of "
                              "each model; the loop area is the energy dissipated. Look at whether the models' "
                              "loops coincide and whether the stroke stays within the tested one.",

@@ -1,5 +1,5 @@
 """Upper- and lower-bound damper properties of a series (campaign.property_bounds) and
-`frame --bounds` (frames.property_bounds): the factors against hand-computed values,
+`frame --property-bounds` (frames.property_bounds): the factors against hand-computed values,
 a rig series' force bounds against each device's C V^alpha, and the frame's
 envelope on a five-device series (upper bound governs the damper force,
 lower bound the drift)."""
@@ -58,7 +58,7 @@ def test_bad_settings_and_bounds_are_one_line():
         with pytest.raises(InputError, match=says.replace("(", r"\(")):
             BoundSettings.from_dict(data, "s.yaml")
     for text in ("1.2,0.8", "0.9", "a,b", "0,1.2"):
-        with pytest.raises(InputError, match="--bounds"):
+        with pytest.raises(InputError, match="--property-bounds"):
             read_bounds(text)
     b = read_bounds("0.8,1.25")
     assert (b.factors("9").lambda_min, b.factors("9").lambda_max) == (0.8, 1.25)
@@ -119,7 +119,8 @@ SERIES_OPTIONS = ("--laws", "2", "--runs", "1", "--seed", "1", "--optimizer", "d
 
 def test_calibrate_of_the_series_writes_the_campaigns_bounds(series, tmp_path):
     """calibrate on the campaign's records with its settings (the design velocity its acceptance's) writes the
-    campaign's bounds.json and bounds.csv, and frame --bounds reads calibrate's folder as it reads the campaign's."""
+    campaign's bounds.json and bounds.csv, and frame --property-bounds reads calibrate's folder as it reads the
+    campaign's."""
     from fvd_bridge.calibration import Calibration
     from fvd_bridge.frames.property_bounds import nominal_ratio
 
@@ -167,7 +168,8 @@ def test_calibrate_of_one_device_says_its_bounds_in_one_line(series, tmp_path):
 
 def test_a_model_fitted_per_test_has_no_bounds_and_says_why(tmp_path):
     """A parameter fitted per test: the force at the design velocity is a test's, so the series has no bounds of
-    that model; bounds.json says why and frame --bounds repeats it (no fit needed: the model is left out first)."""
+    that model; bounds.json says why and frame --property-bounds repeats it (no fit needed: the model is left
+    out first)."""
     from fvd_bridge import Record
     from fvd_bridge.campaign import property_bounds as bounds
     from fvd_bridge.campaign.acceptance import Acceptance
@@ -203,7 +205,7 @@ def test_frame_bounds_on_a_five_device_series(series, shared_dir, tmp_path):
     drift the largest, or the page says why not."""
     folder, out, _ = series
     fr = tmp_path / "fr"
-    res = _frame(shared_dir, fr, out, "--bounds", out)
+    res = _frame(shared_dir, fr, out, "--property-bounds", out)
     assert res.returncode == 0, res.stderr[-3000:]
     summary = json.loads((fr / "frame_summary.json").read_text())
     bounds = json.loads((out / "bounds.json").read_text())
@@ -235,11 +237,13 @@ def test_frame_bounds_on_a_five_device_series(series, shared_dir, tmp_path):
 
 
 def test_unit_factors_change_nothing(series, shared_dir, tmp_path):
-    """--bounds 1,1: the three dampers are one and the same, so are their responses."""
+    """--property-bounds 1,1: the three dampers are one and the same, so are their responses; given by its old
+    name --bounds (calibrate's search box), as old command lines give it, with a one-line note."""
     folder, out, _ = series
     fr = tmp_path / "one"
     res = _frame(shared_dir, fr, out / "params" / "device_02" / "law2.yaml", "--bounds", "1,1")
     assert res.returncode == 0, res.stderr[-3000:]
+    assert "note: frame --bounds is now --property-bounds" in res.stderr
     cases = [c for c in json.loads((fr / "frame_summary.json").read_text())["cases"] if c["model"]]
     assert [c["force_factor"] for c in cases] == [1.0, 1.0, 1.0]
     for q in ("drift", "force", "energy"):
@@ -257,7 +261,7 @@ def test_frame_bounds_bad_input_is_one_line_and_writes_nothing(series, shared_di
     for given, says in (("0.8", "LMIN,LMAX"), ("1.3,1.1", "0 < LMIN <= 1 <= LMAX"), (empty, "no bounds.json"),
                         (other, "no bounds for law 2")):
         fr = tmp_path / "fr_bad"
-        res = _frame(shared_dir, fr, cal, "--bounds", given)
+        res = _frame(shared_dir, fr, cal, "--property-bounds", given)
         assert res.returncode == 2, res.stderr
         assert says in res.stderr and len(res.stderr.strip().splitlines()) == 1 and "Traceback" not in res.stderr
         assert not fr.exists()
@@ -268,7 +272,7 @@ def test_bounds_scale_the_dampers_sized_on_the_nominal(series, shared_dir, tmp_p
     target x lambda, and the free-vibration decay (measured apart from the formula) orders them the same way."""
     folder, out, _ = series
     fr = tmp_path / "sized"
-    res = _frame(shared_dir, fr, out / "params" / "device_03" / "law2.yaml", "--bounds", "0.8,1.25",
+    res = _frame(shared_dir, fr, out / "params" / "device_03" / "law2.yaml", "--property-bounds", "0.8,1.25",
                  "--target-damping", "0.1")
     assert res.returncode == 0, res.stderr[-3000:]
     cases = {c["bound"]: c for c in json.loads((fr / "frame_summary.json").read_text())["cases"] if c["model"]}

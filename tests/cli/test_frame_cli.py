@@ -187,6 +187,25 @@ def test_dampers_too_small_to_matter_are_said_so_with_the_command_that_sizes_the
     assert big.returncode == 2 and "--target-damping 20" in big.stderr and "Traceback" not in big.stderr
 
 
+def test_the_old_bounds_option_still_runs_with_a_one_line_note(capsys):
+    """frame's ASCE 7 property bounds are --property-bounds (--bounds alone is calibrate's search box); the old
+    name still reads the same value, says so in one line on stderr, and is left out of the help."""
+    from fvd_bridge.cli import build_parser
+
+    parser = build_parser("frame")
+    given = ["frame", "cal.yaml", "--record", "quake.txt"]
+    new = parser.parse_args([*given, "--property-bounds", "0.8,1.25"])
+    assert new.property_bounds == "0.8,1.25" and capsys.readouterr().err == ""
+    old = parser.parse_args([*given, "--bounds", "0.8,1.25"])
+    note = capsys.readouterr().err
+    assert old.property_bounds == "0.8,1.25" and note.count("\n") == 1
+    assert note.startswith("note: frame --bounds is now --property-bounds")
+    with pytest.raises(SystemExit):
+        parser.parse_args(["frame", "--help"])
+    shown = capsys.readouterr().out
+    assert "--property-bounds" in shown and "--bounds" not in shown
+
+
 @pytest.fixture(scope="module")
 def one_and_two_tests(tmp_path_factory, series):
     """Calibrations of one lab-like device (two tests, files with their

@@ -67,7 +67,7 @@ def frame(*args):
 def make_fixture(root) -> tuple:
     """The run: calibrations of DEVICE with SPECS, a bounds.json as a campaign
     writes it (lambda 0.82 and 1.18 on the force at 300 mm/s), the frame run
-    with --target-damping 0.2 --bounds; (its folder, its stdout)."""
+    with --target-damping 0.2 --property-bounds; (its folder, its stdout)."""
     from fvd_bridge import calibrate
     from fvd_bridge.campaign.acceptance import Acceptance, design_motion
     from fvd_bridge.campaign.property_bounds import FORCE, design_forces
@@ -91,7 +91,7 @@ def make_fixture(root) -> tuple:
     (root / "quake.txt").write_text("\n".join(f"{x:.3f} {y:.6f}" for x, y in zip(t, a)))
     out = root / "fr"
     res = frame(root / "cal", "--record", root / "quake.txt", "--duration", "1", "--target-damping", "0.2",
-                "--bounds", root / "bounds.json", "--no-figures", "--quiet", "--out", out)
+                "--property-bounds", root / "bounds.json", "--no-figures", "--quiet", "--out", out)
     return out, res.stdout
 
 
