@@ -32,7 +32,7 @@ from fvd_bridge.campaign.executors import Dask, Processes
 from fvd_bridge.campaign.resume import Resumable
 from fvd_bridge.campaign.runner import CampaignSettings
 from fvd_bridge.campaign.store import UnitStore
-from fvd_bridge.campaign.tasks import make_tasks, run_task
+from fvd_bridge.calibration.tasks import make_tasks, run_task
 from fvd_bridge.rig import VirtualDamper, Noise, paper, production_series, simulate_series
 
 
@@ -72,7 +72,8 @@ def measure(name: str, records, cs, root: str) -> dict:
         numba.set_num_threads(1)  # one worker: one core (Processes(1) runs in this process)
     store = UnitStore(os.path.join(root, name), source=name)
     store.open({"bench": name}, records)
-    items = [(t, records[t.device_index], cs) for t in make_tasks(records, cs)]
+    requests = {q.spec: q for q in cs.requests()}
+    items = [(t, records[t.device_index], requests[t.spec]) for t in make_tasks(records, requests.values())]
     of = {}
     t0 = time.perf_counter()
     first = None

@@ -19,14 +19,13 @@ from __future__ import annotations
 import warnings
 
 from .calibration import Calibration
-from .campaign.engine import calibrate_one
-from .campaign.runner import CampaignSettings
+from .calibration.engine import calibrate as run_calibration
+from .calibration.request import Extends, FitRequest
 from .catalog import catalog
 from .diagnose import diagnose as run_diagnosis
 from .errors import FitWarning, InputError
-from .fit import DEFAULT_OPTIMIZER, settings_for
+from .fit import DEFAULT_OPTIMIZER
 from .fit.intervals import REPLICATES, replicates
-from .fit.zero import FORCE_ZERO
 from .records.device import Device
 from .records.record import Record
 
@@ -102,37 +101,18 @@ def calibrate(records, model, *, runs: int = 1, seed: int = 0, optimizer: str = 
         The best run, its intervals and its warnings (also issued as ``FitWarning``).
     """
     m = _model(model, plugins)
-    if int(runs) < 1:
-        raise InputError(f"runs={runs}: must be at least 1")
-    if force_zero not in FORCE_ZERO:
-        raise InputError(f"force_zero={force_zero!r}: expected one of {', '.join(map(repr, FORCE_ZERO))}")
-    record = as_tests(records, device)
-    mode, overrides = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
-    values = dict(start) if isinstance(start, dict) else {}
-    for arg, given in (("bounds", dict.fromkeys(overrides, "...")), ("fixed", fixed or {}), ("start", values),
-                       ("per_test", dict.fromkeys(per_test, ""))):
-        for name, value in given.items():
-            if name not in m.names:
-                shown = f"[{name!r}]" if arg == "per_test" else f"{{{name!r}: {value}}}"
-                raise InputError(f"{arg}={shown}: model {m.spec} has no parameter '{name}' "
-                                 f"(has: {', '.join(m.names)})")
-    overrides.update({name: (float(v), float(v)) for name, v in (fixed or {}).items()})
-    settings_for(optimizer, pop, gens)
-    extends = None
-    if isinstance(start, Calibration):
-        if start.model.law is not m.law or not set(start.model.effect_names) <= set(m.effect_names):
-            raise InputError(f"start: model {m.spec} does not extend the calibration's model {start.spec} "
-                             f"(same law, its effects among the model's)")
-        extends = (start.spec, tuple(start.model.names), tuple(float(x) for x in start.values))
-    cs = CampaignSettings(specs=(m.spec,), runs=int(runs), bounds=mode, optimizer=optimizer, seed=seed,
-                          pop=pop, gens=gens, jobs=1, plugins=tuple(plugins),
-                          bound_overrides=tuple((None, n, lo, hi) for n, (lo, hi) in overrides.items()),
-                          per_test=tuple((None, n) for n in per_test), start=extends,
-                          start_values=tuple((None, n, float(v)) for n, v in values.items()),
-                          intervals=replicates(intervals), all_runs=bool(all_runs), force_zero=force_zero)
-    if cs.model(m.spec).names != m.names:
+    mode, search_bounds = ("auto", dict(bounds)) if isinstance(bounds, dict) else (bounds, {})
+    request = FitRequest(
+        spec=m.spec, plugins=tuple(plugins), bounds=mode,
+        search_bounds={name: (float(lo), float(hi)) for name, (lo, hi) in search_bounds.items()},
+        fixed={name: float(v) for name, v in (fixed or {}).items()}, per_test=tuple(per_test),
+        start_values={name: float(v) for name, v in start.items()} if isinstance(start, dict) else {},
+        extends=Extends.of(start) if isinstance(start, Calibration) else None,
+        optimizer=optimizer, pop=pop, gens=gens, seed=seed, runs=int(runs), all_runs=bool(all_runs),
+        intervals=replicates(intervals), force_zero=force_zero)
+    if request.model.names != m.names:
         raise InputError(f"model {m.spec}: give it as a spec (with plugins= for effects of your own)")
-    cal = calibrate_one(record, cs)
+    cal = run_calibration(as_tests(records, device), request.check())
     for note in cal.warnings:
         warnings.warn(note, FitWarning, stacklevel=2)
     return cal

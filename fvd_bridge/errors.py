@@ -83,6 +83,18 @@ def bound_option(name: str, lo: float, hi: float, spec: str | None = None) -> st
     return option("--bound", f"{spec + ':' if spec else ''}{name}={lo},{hi}", name=name, lo=lo, hi=hi)
 
 
+def parameter_option(flag: str, name: str, value=None) -> str:
+    """One parameter's option as given: '--fix C=40' on the command line,
+    "fixed={'C': 40}" from Python; a --bound's value is (lower, upper),
+    a --per-test has none."""
+    if flag == "--bound":
+        return bound_option(name, *value)
+    if value is None:
+        return option(flag, name)
+    template = API_ARGUMENT.get(flag) if _WORDS.get() == "api" else None
+    return template.format(v=value, name=name) if template else f"{flag} {name}={value}"
+
+
 def command(verb: str) -> str:
     """'fvd-bridge export fmu' on the command line, 'Calibration.to_fmu()'
     from Python (``API_CALL``)."""

@@ -42,7 +42,7 @@ class LogProgress:
         self._now_and_then()
 
     def set_postfix_str(self, text: str, refresh: bool = True) -> None:
-        """News from inside the work (campaign.news): a line now and then, also between updates."""
+        """News from inside the work (calibration.news): a line now and then, also between updates."""
         self.postfix = text
         self._now_and_then()
 

@@ -443,6 +443,33 @@ class Calibration:
                    force_zero=ForceZero.of_fit(fit, device, intervals),
                    records=list(device.tests))
 
+    @classmethod
+    def from_runs(cls, model, fitted, record, *, settings: dict, warnings=(), intervals=None):
+        """A calibration from its seeded runs: the best run, with the
+        statistics over the runs asked and the record's noise floor.
+
+        Parameters
+        ----------
+        model : Model
+            The fitted model.
+        fitted : FittedRuns
+            Its runs on ``record`` (``calibration.runs.fit_runs``).
+        record : Record or Device
+            What it was fitted on.
+        settings : dict
+            The request's settings (``FitRequest.as_settings`` or a campaign's),
+            kept as provenance with the runs made and the best run's seed.
+        warnings : sequence of str
+            The fit's warnings (``calibration.checks``).
+        intervals : Intervals, optional
+            The best run's intervals (``calibration.runs.fit_intervals``).
+        """
+        best, wider = fitted.best, fitted.wider_runs
+        settings = {**settings, "runs_made": len(fitted.asked), **({"wider_runs": wider} if wider else {}),
+                    "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
+        cal = cls.from_fit(model, best, record, settings, warnings, fitted.stats(), intervals)
+        return replace(cal, solver=replace(cal.solver, floor=fitted.floor))
+
     def to_dict(self) -> dict:
         """The file's mapping (``schema``)."""
         return schema.to_dict(self)

@@ -19,7 +19,7 @@ import numpy as np
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from ..errors import InputError, speak, words
-from .news import install as install_news
+from ..calibration.news import install as install_news
 
 
 class Serial:
@@ -41,7 +41,7 @@ def _stop_worker(signum, frame):
 
 def _init_worker(words: str = "api", news=None):
     """A worker's start: SIGTERM ends it; its messages speak the caller's
-    ``words`` (errors.speak); its fits report to ``news`` (campaign.news)."""
+    ``words`` (errors.speak); its fits report to ``news`` (calibration.news)."""
     # first: SIGTERM ends the worker, also during this start-up (stop)
     signal.signal(signal.SIGTERM, _stop_worker)
     import numba  # lazily: only a worker sets numba's threads; importing executors stays numba-free
@@ -70,7 +70,7 @@ class Processes:
     @property
     def news(self):
         """The queue the workers' fits report their progress to
-        (campaign.news): made when a listener asks for it, before the pool
+        (calibration.news): made when a listener asks for it, before the pool
         starts; workers started without it report nothing."""
         if self._news is None:
             self._news = self._context.Queue()

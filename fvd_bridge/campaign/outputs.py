@@ -9,14 +9,13 @@ DIR/robustness.csv  Delta_mn, Delta_n per parameter and beta per model (eqs. 19-
                     has empty deltas and the note "near-zero mean: not in beta"
 DIR/pareto.csv      mean OF vs beta per model, non-dominated flag (Fig. 14)
 DIR/summary.json    settings, devices, per-model summary (with the runs made:
-                    campaign.runner.run_campaign), every run, warnings
+                    calibration.runs.fit_runs), every run, warnings
 DIR/figures/*.png   loops, OF bars, parameter dispersion, Pareto front
 """
 
 from __future__ import annotations
 
 import os
-from dataclasses import replace
 
 import numpy as np
 
@@ -26,8 +25,7 @@ from ..calibration import Calibration
 from ..io.staging import num, staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
 from . import stats
-from .checks import fit_warnings
-from .tasks import is_wider
+from ..calibration.checks import fit_warnings
 from ..report.page import build_report
 from .executors import Processes, Serial
 
@@ -48,8 +46,8 @@ def summarize(records, results: dict, cs) -> dict:
     law1 = {dev: np.mean([x.of for x in results[(dev, "1")]]) for dev in devices if (dev, "1") in results}
     models = {}
     for spec in cs.specs:
-        every = [results[(dev, spec)] for dev in devices]
-        per_dev = [[r for r in runs if not is_wider(r)] for runs in every]  # the runs asked: their statistics
+        every = [results[(dev, spec)] for dev in devices]  # FittedRuns
+        per_dev = [runs.asked for runs in every]  # the runs asked: their statistics
         names, units = per_dev[0][0].names, per_dev[0][0].units
         P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)
         OF = np.array([[r.of for r in runs] for runs in per_dev])          # (dev, run)
@@ -72,10 +70,10 @@ def summarize(records, results: dict, cs) -> dict:
                       for j, (n, u) in enumerate(zip(names, units)) if near_zero[j]],
             "of_mean": OF.mean(axis=1), "of_sigma": OF.std(axis=1),
             "p_mean": p_mean, "p_sigma": p_sigma, "derived": d_stats, "delta": delta, "delta_n": delta_n, "beta": beta,
-            "of_overall": float(OF.mean()), "runs_made": OF.shape[1], "wider_runs": len(every[0]) - OF.shape[1],
+            "of_overall": float(OF.mean()), "runs_made": OF.shape[1], "wider_runs": every[0].wider_runs,
             "warnings": {dev: fit_warnings(cs.model(spec), runs, law1.get(dev)) for dev, runs in zip(devices, every)},
-            "best": {dev: min(runs, key=lambda r: r.of) for dev, runs in zip(devices, every)},
-            "floor": {dev: runs[0].floor for dev, runs in zip(devices, per_dev)},
+            "best": {dev: runs.best for dev, runs in zip(devices, every)},
+            "floor": {dev: runs.floor for dev, runs in zip(devices, every)},
         }
     specs = list(cs.specs)
     front = stats.non_dominated(np.array([[models[s]["of_overall"], models[s]["beta"]] for s in specs]))
@@ -91,23 +89,19 @@ def _near_zero_note(name, unit, mean, rng) -> str:
             f"search range [{rng[0]:.4g}, {rng[1]:.4g}]): no relative scatter, kept out of beta")
 
 
-def calibration(rec, dev_index: int, spec, summary_model, cs, intervals=None) -> Calibration:
-    """The calibrated parameter set of one (device, model): its best run (with its intervals)."""
-    best = summary_model["best"][rec.name]
-    runs = {"of_mean": summary_model["of_mean"][dev_index], "of_sigma": summary_model["of_sigma"][dev_index],
-            "p_mean": summary_model["p_mean"][dev_index], "p_sigma": summary_model["p_sigma"][dev_index]}
-    wider = summary_model["wider_runs"]
-    settings = {**cs.as_dict(), "runs_made": summary_model["runs_made"], **({"wider_runs": wider} if wider else {}),
-                "best_run_seed": list(np.atleast_1d(best.seed).tolist())}
-    cal = Calibration.from_fit(cs.model(spec), best, rec, settings,
-                               [w["message"] for w in summary_model["warnings"][rec.name]], runs, intervals)
-    return replace(cal, solver=replace(cal.solver, floor=summary_model["floor"][rec.name]))
+def calibration(rec, spec, results: dict, summary_model, cs, intervals=None) -> Calibration:
+    """The calibrated parameter set of one (device, model): its best run
+    (with its intervals), built as one calibration builds it
+    (``Calibration.from_runs``), with the campaign's settings."""
+    return Calibration.from_runs(cs.model(spec), results[(rec.name, spec)], rec, settings=cs.as_dict(),
+                                 warnings=[w["message"] for w in summary_model["warnings"][rec.name]],
+                                 intervals=intervals)
 
 
 def write_outputs(out: str, records, results: dict, cs, figures: bool = True, extra=None, intervals=None,
                   executor=None) -> dict:
     """Write every output into ``out`` (all or nothing); returns the summary.
-    ``intervals``: {(device, spec): Intervals} (campaign.runner.run_intervals);
+    ``intervals``: {(device, spec): Intervals} (calibration.runs.fit_intervals);
     ``executor``: the one that draws the figures (default: a process pool of
     ``cs.jobs``; the campaign's own, when its pool is still open).
 
@@ -118,9 +112,9 @@ def write_outputs(out: str, records, results: dict, cs, figures: bool = True, ex
     summary["intervals"] = {}
     intervals = intervals or {}
     with staged_dir(out) as stage:
-        for k, rec in enumerate(records):
+        for rec in records:
             for spec in cs.specs:
-                cal = calibration(rec, k, spec, summary["models"][spec], cs, intervals.get((rec.name, spec)))
+                cal = calibration(rec, spec, results, summary["models"][spec], cs, intervals.get((rec.name, spec)))
                 cal.save(os.path.join(stage, "params", rec.name, spec_file(spec)))
                 if cal.intervals:
                     summary["intervals"][(rec.name, spec)] = cal.interval_lines()

@@ -77,14 +77,6 @@ def robustness(device_means: np.ndarray, excluded=None) -> tuple[np.ndarray, flo
     return delta_n, float(finite.mean()) if finite.size else float("nan")
 
 
-def relative_range(x) -> float:
-    """(max - min) / min of positive values (e.g. OF over runs): how far the worst
-    is above the best, meaningful from 2 values on; NaN when min <= 0."""
-    x = np.asarray(x, dtype=float)
-    lo = float(np.min(x))
-    return float((np.max(x) - lo) / lo) if lo > 0 else float("nan")
-
-
 def robust_scale(x) -> tuple[float, float]:
     """(median, robust standard deviation): 1.4826 MAD, or 1.2533 x the mean
     absolute deviation from the median when MAD = 0 (module rule)."""

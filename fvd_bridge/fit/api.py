@@ -53,6 +53,14 @@ def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict)
     return b
 
 
+def refuse_all_fixed(model, overrides: dict) -> None:
+    """An InputError when ``overrides`` ({name: (lower, upper)}) fix every parameter: nothing to fit."""
+    pinned = [n for n, (lo, hi) in overrides.items() if n in model.names and lo == hi]
+    if len(pinned) == len(model.names):
+        raise InputError(f"{option('--fix')}: every parameter of model {model.spec} is fixed ({', '.join(pinned)}): "
+                         f"nothing to fit; compare it on the record instead ({command('compare')})")
+
+
 def fit_model(model, record, *, bounds: str | np.ndarray = "auto", optimizer: str = DEFAULT_OPTIMIZER,
               seed=0, settings=None, substeps: int = 1, on_generation=None,
               overrides: dict | None = None, start: np.ndarray | None = None,
@@ -84,10 +92,7 @@ def fit_model(model, record, *, bounds: str | np.ndarray = "auto", optimizer: st
         raise InputError(f"optimizer {optimizer}: settings {type(settings).__name__} belong to another optimizer "
                          f"(settings_for('{optimizer}', pop, gens) gives its own)")
     overrides = dict(overrides or {})
-    pinned = [n for n, (lo, hi) in overrides.items() if n in model.names and lo == hi]
-    if len(pinned) == len(model.names):
-        raise InputError(f"{option('--fix')}: every parameter of model {model.spec} is fixed ({', '.join(pinned)}): "
-                         f"nothing to fit; compare it on the record instead ({command('compare')})")
+    refuse_all_fixed(model, overrides)
     t0, evals, widened, parent_of = time.perf_counter(), 0, {}, None
     if start is None and nested and layout.free:  # the shared-parameter fit is nested in the per-test one
         pfit = fit_model(model, device, bounds=bounds, optimizer=optimizer, seed=seed, settings=settings,

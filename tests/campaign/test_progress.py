@@ -48,7 +48,7 @@ def _report_and_fail(label):
     """A worker's task: one progress report, then bad input in the caller's words."""
     import time
 
-    from fvd_bridge.campaign import news
+    from fvd_bridge.calibration import news
     from fvd_bridge.errors import InputError, option
 
     report = news.reporter(label)
@@ -70,7 +70,7 @@ def test_workers_report_progress_and_speak_the_callers_words():
 
     import pytest
     from fvd_bridge.campaign.executors import Processes
-    from fvd_bridge.campaign.news import Listener
+    from fvd_bridge.calibration.news import Listener
     from fvd_bridge.errors import InputError, command_line_words
 
     for words, expected in ((command_line_words, "--plugin x.py: no such file"),
@@ -97,7 +97,7 @@ def test_news_between_updates_reaches_a_log(monkeypatch):
 
 def _flood(label):
     """A worker's task that reports far more than a pipe holds (64 kB), with no one reading."""
-    from fvd_bridge.campaign import news
+    from fvd_bridge.calibration import news
 
     news.EVERY_S = 0.0
     report = news.reporter(label)

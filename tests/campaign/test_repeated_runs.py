@@ -1,5 +1,5 @@
 """Runs that can only repeat each other are not made; the command line and
-the Python API are one calibration engine (campaign.engine)."""
+the Python API are one calibration path (calibration.runs)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ import pytest
 import fvd_bridge as fb
 from conftest import CLI, cli_env
 from fvd_bridge.campaign.executors import Serial
-from fvd_bridge.campaign.runner import FIRST_RUNS, CampaignSettings, repeat_each_other, run_campaign
+from fvd_bridge.calibration.runs import FIRST_RUNS, repeat_each_other
+from fvd_bridge.campaign.runner import CampaignSettings, run_campaign
 from fvd_bridge.rig import VirtualDamper, paper
 from lab import lab_record
 
@@ -54,7 +55,7 @@ def test_runs_that_disagree_are_all_made(rec):
 def test_command_line_and_api_are_one_engine(rec, tmp_path):
     """calibrate with --fix, --start-value, --runs and --intervals writes the
     very numbers fb.calibrate returns with fixed=, start=, runs= and
-    intervals= (the same engine: campaign.engine)."""
+    intervals= (the same path: calibration.runs)."""
     cal = fb.calibrate(rec, "9", runs=5, intervals=6, fixed={"beta": 150.0}, start={"C": 0.3})
     res = subprocess.run([*CLI, "calibrate", rec.provenance["file"], "--laws", "9", "--runs", "5", "--intervals",
                           "6", "--fix", "9:beta=150", "--start-value", "C=0.3", "--out", str(tmp_path / "out"),

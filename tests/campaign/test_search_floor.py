@@ -1,6 +1,6 @@
 """A calibration's search is judged by the record's noise floor: runs that end
 far above it look wider, and what still ends far above it says so
-(campaign.runner._search_wider, campaign.checks.floor_warnings).
+(calibration.runs: the wider search; calibration.checks.floor_warnings).
 
 The trap: a law-2 device behind a stiff oil column (C 35, alpha 0.4, Ks 150
 kN/mm) under the five-level acceptance protocol; a local search whose starts

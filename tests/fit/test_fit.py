@@ -247,7 +247,7 @@ def test_a_bound_that_widens_by_itself_is_not_to_be_widened_by_hand():
     """A law parameter on an automatic bound that already widened (C at
     6.9e-11: the term vanishes) gets no '--bound' hint; one on a bound the
     user set (not widened, not a physical limit) does."""
-    from fvd_bridge.campaign.checks import fit_warnings
+    from fvd_bridge.calibration.checks import fit_warnings
     from fvd_bridge.fit.result import FitResult
 
     model = parse_model("2")

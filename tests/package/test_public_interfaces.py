@@ -117,12 +117,12 @@ def test_malformed_calibration_files_get_one_line(tmp_path):
 def test_executors_give_the_same_campaign(tmp_path):
     from fvd_bridge.campaign.executors import Processes, Serial
     from fvd_bridge.campaign.runner import CampaignSettings, run_campaign
-    from fvd_bridge.campaign.tasks import make_tasks
+    from fvd_bridge.calibration.tasks import make_tasks
 
     recs = [simulate(VirtualDamper(C=c, alpha=0.3, name=f"d{k}"), paper(cycles=2), Noise(force=1.0), seed=k)
             for k, c in enumerate((44.0, 47.0))]
     cs = CampaignSettings(specs=("2", "9"), runs=2, pop=6, gens=15)
-    tasks = make_tasks(recs, cs)
+    tasks = make_tasks(recs, cs.requests())
     assert len({t.id for t in tasks}) == len(tasks) == 8 and tasks[0].id == "d0/law2/run0000"
 
     class Reversed:  # any order of completion gives the same tables

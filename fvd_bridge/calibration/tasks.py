@@ -1,16 +1,17 @@
-"""One unit of a campaign: a (device, model, run) fit with its own seed.
+"""One unit of the runs: a (device, model, run) fit with its own seed.
 
-A Task is plain data with a stable id, so that any executor (a local process
-pool, a Dask cluster, a resumable store) can ship it, run it with
-``run_task`` and key its result; the seed depends only on the campaign seed
-and the task's position, never on the order or the process it runs in.
+A Task is plain data with a stable id, so that any executor (this process,
+a local process pool, a Dask cluster, a resumable store) can ship it, run
+it with ``run_task`` and key its result; the seed depends only on the
+request's seed and the task's position (device, model among a campaign's,
+run), never on the order or the process it runs in.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from ..fit import fit_model, settings_for
+from ..fit import fit_model
 from ..fit.floor import device_floor, device_force_floor
 from ..fit.layout import Layout
 from ..fit.local import wider
@@ -42,10 +43,10 @@ class Task:
         return f"{self.device}/law{self.spec}/{which}"
 
 
-def make_tasks(records, cs) -> list[Task]:
-    """Every (device, model, run) of the campaign, in table order."""
-    return [Task(i, rec.name, j, spec, r, (cs.seed, i, j, r))
-            for i, rec in enumerate(records) for j, spec in enumerate(cs.specs) for r in range(cs.runs)]
+def make_tasks(records, requests) -> list[Task]:
+    """Every (device, model, run) of ``requests`` (FitRequests) on ``records``, in table order."""
+    return [Task(i, rec.name, q.position, q.spec, r, (q.seed, i, q.position, r))
+            for i, rec in enumerate(records) for q in requests for r in range(q.runs)]
 
 
 #: a wider round's seed is (campaign seed, device, model, WIDER_SEED + round): never a run's
@@ -64,26 +65,25 @@ def wider_task(task: Task, round_: int, run: int) -> Task:
                 (task.seed[0], task.device_index, task.spec_index, WIDER_SEED + round_), round_)
 
 
-def run_task(task: Task, record, cs):
-    """Fit one task (a FitResult) on ``record`` (a Record or a Device); the
-    model comes from the campaign's catalog, loaded once per process; a
-    --start calibration the model extends is its start, else the
-    --start-value values (the data's start for the other parameters)."""
-    model = cs.catalog.model(task.spec)
-    settings = settings_for(cs.optimizer, cs.pop, cs.gens, cs.stall)
+def run_task(task: Task, record, request):
+    """Fit one task (a FitResult) on ``record`` (a Record or a Device) as
+    ``request`` (a FitRequest) asks; its model is loaded once per process;
+    a calibration the model extends is its start, else the start values
+    (the data's start for the other parameters)."""
+    model = request.model
+    settings = request.settings
     if task.wider:
         settings = wider(settings, task.wider)
-    overrides = {n: b for n, b in cs.overrides_for(task.spec).items() if n in model.names}
-    per_test = cs.per_test_for(task.spec)
-    given = cs.start_for(task.spec)
-    start = (nested_start(model, record, given[0], given[1], per_test) if given is not None
-             else cs.start_values_for(task.spec) or None)
-    fit = fit_model(model, record, bounds=cs.bounds, optimizer=cs.optimizer, seed=list(task.seed),
-                    settings=settings, overrides=overrides, per_test=per_test, start=start,
-                    on_generation=reporter(task.id), force_zero=cs.fits_zero)
+    per_test = request.per_test
+    given = request.extends
+    start = (nested_start(model, record, given.names, given.values, per_test) if given is not None
+             else dict(request.start_values) or None)
+    fit = fit_model(model, record, bounds=request.bounds, optimizer=request.optimizer, seed=list(task.seed),
+                    settings=settings, overrides=request.overrides, per_test=per_test, start=start,
+                    on_generation=reporter(task.id), force_zero=request.fits_zero)
     device = as_device(record)
     if task.run == 0 and not task.wider and fit.of > NEAR_FLOOR * device_force_floor(device):
-        # the floor the runner judges the runs by (campaign.runner); within NEAR_FLOOR of the force
+        # the floor the runs are judged by (calibration.runs); within NEAR_FLOOR of the force
         # noise's floor alone (a lower bound) a fit is near it, and its propagation is not paid for
         layout = Layout(model, tuple(device.test_names), per_test)
         fit = replace(fit, floor=device_floor(model, layout, fit.params, device))

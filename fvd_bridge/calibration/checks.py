@@ -16,7 +16,6 @@ import numpy as np
 from ..errors import bound_option, command, option
 from ..fit.local import L1_TOLERANCE
 from ..fit.objective import EXPLAINS_LITTLE, NEAR_FLOOR
-from .stats import relative_range
 from .tasks import is_wider
 
 #: runs disagree when (max - min) / min of OF over runs exceeds this
@@ -61,7 +60,7 @@ def floor_warnings(runs: list, best) -> list[dict]:
     """The best run against what the record allows: far above its noise
     floor (the first run's ``floor``: NEAR_FLOOR times it), a force the model
     explains little of (an OF beyond EXPLAINS_LITTLE), and a wider search
-    that found better than the runs (``campaign.runner``: the runs alone
+    that found better than the runs (``calibration.runs``: the runs alone
     end in another basin on this record)."""
     out, floor = [], runs[0].floor
     if best.of > EXPLAINS_LITTLE:
@@ -107,6 +106,14 @@ def _bound_message(model, best, name: str, side: str) -> str:
         wider = (lo / 10.0, hi)
     return (f"{name} ended on its {side} bound {lo if side == 'lower' else hi:.4g} (bounds {best.bounds_mode} "
             f"[{lo:.4g}, {hi:.4g}]); widen it, e.g. {bound_option(name, *wider, model.spec)}")
+
+
+def relative_range(x) -> float:
+    """(max - min) / min of positive values (e.g. OF over runs): how far the worst
+    is above the best, meaningful from 2 values on; NaN when min <= 0."""
+    x = np.asarray(x, dtype=float)
+    lo = float(np.min(x))
+    return float((np.max(x) - lo) / lo) if lo > 0 else float("nan")
 
 
 def _spread(x: np.ndarray) -> float:
