@@ -18,6 +18,7 @@ from ..catalog import catalog as load_catalog
 from ..errors import InputError, option, parameter_option
 from ..fit import DEFAULT_OPTIMIZER, settings_for
 from ..fit.api import refuse_all_fixed
+from ..fit.intervals import replicates
 from ..fit.zero import FORCE_ZERO
 
 
@@ -104,11 +105,14 @@ class FitRequest:
         """The request itself, every option checked (one line each, naming the
         option and the parameter); raises InputError."""
         model = self.model
-        if int(self.runs) < 1:
-            raise InputError(f"{option('--runs', self.runs)}: must be at least 1")
+        for name in ("runs", "pop", "gens", "stall"):
+            value = getattr(self, name)
+            if value is not None and value < 1:
+                raise InputError(f"{option('--' + name, value)}: must be at least 1")
         if self.force_zero not in FORCE_ZERO:
             raise InputError(f"force_zero={self.force_zero!r}: expected one of {', '.join(map(repr, FORCE_ZERO))}")
-        self.settings
+        self.settings  # the optimizer and its settings
+        replicates(self.intervals)
         given = ([("--bound", name, bounds) for name, bounds in self.search_bounds.items()]
                  + [("--fix", name, v) for name, v in self.fixed.items()]
                  + [("--start-value", name, v) for name, v in self.start_values.items()]
