@@ -1,14 +1,18 @@
 """One fit's wall time against a least-squares peer on the same record.
 
-A lab-like record (t,d,F written and read back, velocity derived by the
-tool) of a law-2 device with a 150 kN/mm oil column, the paper protocol
-(40 mm at 500 mm/s, dt 0.002 s), 1 kN force and 0.005 mm displacement
-noise.  For laws 2 and 9, best of 3 in one process:
+Lab-like records (t,d,F written and read back, velocity derived by the
+tool), the paper protocol (40 mm at 500 mm/s, dt 0.002 s), 1 kN force and
+0.005 mm displacement noise: a law-2 device (fitted with law 2), a law-9
+device (law 9), and a law-2 device with a 150 kN/mm oil column that
+neither law describes (both laws; a calibration searches wider there).
+Best of 3 in one process:
 
 - fvd_bridge's default fit ``local`` (least squares on eq. 18 from the
   law's data-driven starts and a Sobol sample's), ``local+de`` (the same,
   then a DE check) and ``de`` (DE and its Nelder-Mead polish, the default
-  up to version 0.2.0);
+  up to version 0.2.0), and ``fb.calibrate(rec, law, runs=1,
+  intervals=0)``: the default fit with what a calibration adds around it
+  (the request's checks, the noise floor it is judged by, the Calibration);
 - the peer: scipy ``least_squares`` (the solver lmfit's ``least_squares``
   method calls) on the plain residuals F_model - F, the law written in
   plain numpy as its users write it (``plain_force``; not the project's
@@ -36,23 +40,39 @@ import importlib.util
 import os
 import tempfile
 import time
+import warnings
 
 import numpy as np
 from scipy.optimize import least_squares
 
+import fvd_bridge as fb
 from fvd_bridge.catalog import parse_model
 from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, objective
 from fvd_bridge.records import read_record
 from fvd_bridge.records.writers import write_csv
 from fvd_bridge.rig import VirtualDamper, Noise, paper, simulate
+from fvd_bridge.rig.model_device import simulate_model
 
 
-def lab_record():
-    rec = simulate(VirtualDamper(C=45.0, alpha=0.3, Ks=150.0, name="sn150"), paper(), Noise(1.0, 0.005), seed=0)
+def lab_file(rec):
+    """``rec`` written as a lab's t,d,F file and read back (velocity derived by the tool)."""
     folder = tempfile.mkdtemp(prefix="fvd_bench_")
-    path = os.path.join(folder, "sn150.csv")
+    path = os.path.join(folder, f"{rec.name}.csv")
     write_csv(rec, path)
     return read_record(path)
+
+
+def lab_records() -> list:
+    """(what, record, laws): a device each law describes (its fit ends at the
+    noise floor), then the law-2 device with a 150 kN/mm oil column, which
+    neither law describes (the calibration's wider search runs)."""
+    law9 = simulate_model(parse_model("9"), [0.2, 0.15, 27.0], paper(), Noise(1.0, 0.005), seed=0, name="law9")
+    return [("law-2 device", lab_file(simulate(VirtualDamper(C=45.0, alpha=0.3, name="sn045"), paper(),
+                                              Noise(1.0, 0.005), seed=0)), ("2",)),
+            ("law-9 device", lab_file(law9), ("9",)),
+            ("law 2 + 150 kN/mm oil column",
+             lab_file(simulate(VirtualDamper(C=45.0, alpha=0.3, Ks=150.0, name="sn150"), paper(),
+                               Noise(1.0, 0.005), seed=0)), ("2", "9"))]
 
 
 def start_of(law: str, rec) -> np.ndarray:
@@ -140,28 +160,43 @@ def best_of(repeats, run):
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--record", help="a lab file to fit instead of the simulated record")
+    ap.add_argument("--record", help="a lab file to fit instead of the simulated records")
     args = ap.parse_args()
-    rec = read_record(args.record) if args.record else lab_record()
-    what = "a lab file" if args.record else "law 2 + 150 kN/mm oil column, lab-like"
-    print(f"record: {rec.name}, {rec.n} samples ({what}); best of {args.repeats}\n")
-    print(f"{'law':>4} {'fit':>32} {'wall [ms]':>10} {'OF':>9} {'x peer time':>12}")
-    for law in ("2", "9"):
-        model = parse_model(law)
-        bounds = np.array(model.bounds("auto", rec.scales()), dtype=float)
-        model.force(rec, bounds.mean(axis=1)[None, :])  # compile first
-        peer_wall, (_, peer_of) = best_of(args.repeats, lambda: peer_fit(model, rec, start_of(law, rec), bounds))
-        rows = [("scipy least_squares (peer)", peer_wall, peer_of)]
-        if importlib.util.find_spec("lmfit") is not None:
-            wall, (_, of) = best_of(args.repeats, lambda: lmfit_fit(model, rec, start_of(law, rec), bounds))
-            rows.append(("lmfit least_squares", wall, of))
-        for opt in ("de", "local+de", DEFAULT_OPTIMIZER):
-            wall, fit = best_of(args.repeats, lambda: fit_model(model, rec, optimizer=opt, seed=0))
-            rows.append((f"fvd_bridge {opt}{' (default)' if opt == DEFAULT_OPTIMIZER else ''}", wall, fit.of))
-        for name, wall, of in rows:
-            print(f"{law:>4} {name:>32} {1e3 * wall:10.1f} {of:9.5f} {wall / peer_wall:12.1f}")
-        print(overhead(model, rec, wall, fit))
-        print()
+    cases = [("a lab file", read_record(args.record), ("2", "9"))] if args.record else lab_records()
+    for what, rec, laws in cases:
+        print(f"record: {rec.name}, {rec.n} samples ({what}); best of {args.repeats}\n")
+        print(f"{'law':>4} {'fit':>34} {'wall [ms]':>10} {'OF':>9} {'x peer time':>12}")
+        for law in laws:
+            time_law(law, rec, args.repeats)
+
+
+def time_law(law: str, rec, repeats: int) -> None:
+    """One law's fits on ``rec``: the peers, the optimizers, fb.calibrate."""
+    model = parse_model(law)
+    bounds = np.array(model.bounds("auto", rec.scales()), dtype=float)
+    model.force(rec, bounds.mean(axis=1)[None, :])  # compile first
+    peer_wall, (_, peer_of) = best_of(repeats, lambda: peer_fit(model, rec, start_of(law, rec), bounds))
+    rows = [("scipy least_squares (peer)", peer_wall, peer_of)]
+    lmfit_row = None
+    if importlib.util.find_spec("lmfit") is not None:
+        wall, (_, of) = best_of(repeats, lambda: lmfit_fit(model, rec, start_of(law, rec), bounds))
+        lmfit_row = ("lmfit least_squares", wall, of)
+        rows.append(lmfit_row)
+    for opt in ("de", "local+de", DEFAULT_OPTIMIZER):
+        fit_wall, fit = best_of(repeats, lambda: fit_model(model, rec, optimizer=opt, seed=0))
+        rows.append((f"fvd_bridge {opt}{' (default)' if opt == DEFAULT_OPTIMIZER else ''}", fit_wall, fit.of))
+    with warnings.catch_warnings():  # a calibration's FitWarnings are its own matter here
+        warnings.simplefilter("ignore")
+        cal_wall, cal = best_of(repeats, lambda: fb.calibrate(rec, law, runs=1, intervals=0))
+    rows.append(("fb.calibrate(runs=1, intervals=0)", cal_wall, cal.of))
+    for name, wall, of in rows:
+        print(f"{law:>4} {name:>34} {1e3 * wall:10.1f} {of:9.5f} {wall / peer_wall:12.1f}")
+    print(overhead(model, rec, fit_wall, fit))
+    if lmfit_row is not None:
+        wider = cal.settings.get("wider_runs", 0)
+        print(f"     fb.calibrate / lmfit: {cal_wall / lmfit_row[1]:.2f}x the time, OF {cal.of:.5f} vs "
+              f"{lmfit_row[2]:.5f}" + (f" ({wider} wider search rounds: far above the noise floor)" if wider else ""))
+    print()
 
 
 if __name__ == "__main__":
