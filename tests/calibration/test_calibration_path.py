@@ -1,0 +1,105 @@
+"""One calibration is its own typed path: ``fb.calibrate`` builds a
+FitRequest, runs ``calibration.runs`` and builds the Calibration, and no
+code of ``campaign/`` runs on the way (followed with a profiler hook, so
+an import or a call that wanders into the campaign fails here).  The
+campaign's loop over the same path gives the same calibration."""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import fvd_bridge as fb
+from fvd_bridge.calibration.engine import calibrate
+from fvd_bridge.calibration.request import FitRequest
+from fvd_bridge.calibration.runs import FittedRuns, fit_runs
+from fvd_bridge.campaign.executors import Serial
+from fvd_bridge.campaign.outputs import calibration, summarize
+from fvd_bridge.campaign.runner import CampaignSettings, run_campaign
+from fvd_bridge.rig import Noise, VirtualDamper, paper, simulate
+
+
+@pytest.fixture(scope="module")
+def rec():
+    return simulate(VirtualDamper(C=45.0, alpha=0.3, name="sn045"), paper(cycles=2), Noise(1.0, 0.005), seed=0)
+
+
+def test_a_calibration_never_enters_the_campaign(rec):
+    entered = set()
+
+    def follow(frame, event, arg):
+        if event == "call" and "/fvd_bridge/campaign/" in frame.f_code.co_filename.replace("\\", "/"):
+            entered.add(f"{frame.f_code.co_filename}:{frame.f_code.co_name}")
+
+    sys.setprofile(follow)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            cal = fb.calibrate(rec, "2", runs=3, intervals=4, bounds={"alpha": (0.05, 1.0)}, start={"C": 40.0})
+    finally:
+        sys.setprofile(None)
+    assert entered == set()
+    assert cal.intervals is not None and cal.settings["runs_made"] >= 2  # runs and intervals were made on the way
+
+
+def test_the_follower_sees_the_campaign_when_it_runs(rec):
+    """The check itself: a campaign's run is seen entering campaign/."""
+    entered = []
+
+    def follow(frame, event, arg):
+        if event == "call" and "/fvd_bridge/campaign/" in frame.f_code.co_filename.replace("\\", "/"):
+            entered.append(frame.f_code.co_name)
+
+    sys.setprofile(follow)
+    try:
+        run_campaign([rec], CampaignSettings(specs=("1",), runs=1), progress=False, executor=Serial())
+    finally:
+        sys.setprofile(None)
+    assert "run_campaign" in entered
+
+
+def test_the_campaign_builds_the_calibration_the_path_builds(rec):
+    """A campaign of one model on one record and the path's own calibrate
+    agree to the bit: the same runs (FittedRuns), the same best values, OF and run statistics."""
+    request = FitRequest(spec="2", runs=3).check()
+    direct = calibrate(rec, request)
+    cs = CampaignSettings(specs=("2",), runs=3, jobs=1)
+    results = run_campaign([rec], cs, progress=False, executor=Serial())
+    fitted = results[(rec.name, "2")]
+    assert isinstance(fitted, FittedRuns) and len(fitted.asked) == direct.settings["runs_made"]
+    via = calibration(rec, "2", results, summarize([rec], results, cs)["models"]["2"], cs)
+    assert np.array_equal(via.values, direct.values) and via.of == direct.of
+    assert np.array_equal(via.runs.p_mean, direct.runs.p_mean) and via.runs.of_sigma == direct.runs.of_sigma
+    assert via.solver.floor == direct.solver.floor
+
+
+def test_fitted_runs_keep_the_runs_asked_apart_from_the_wider_rounds(rec):
+    """On a record law 2 cannot describe (a stiff oil column behind it), the
+    first runs end far above the noise floor and the wider search adds its
+    rounds after the runs asked; the run statistics are the asked runs'."""
+    column = simulate(VirtualDamper(C=45.0, alpha=0.3, Ks=150.0, name="sn150"), paper(cycles=2),
+                      Noise(1.0, 0.005), seed=0)
+    fitted = fit_runs([column], [FitRequest(spec="2", runs=2).check()])[(column.name, "2")]
+    assert fitted.wider_runs >= 1 and len(fitted.asked) == 2 and len(fitted) == 2 + fitted.wider_runs
+    assert fitted.best.of <= min(r.of for r in fitted.asked)
+    assert fitted.stats()["of_mean"] == pytest.approx(np.mean([r.of for r in fitted.asked]))
+
+
+@pytest.mark.parametrize("given, words", [
+    (dict(search_bounds={"K": (0.0, 1.0)}), "bounds={'K': (0, 1)}: model 2 has no parameter 'K'"),
+    (dict(fixed={"K": 1.0}), "fixed={'K': 1.0}: model 2 has no parameter 'K'"),
+    (dict(start_values={"K": 1.0}), "start={'K': 1.0}: model 2 has no parameter 'K'"),
+    (dict(per_test=("K",)), "per_test=['K']: model 2 has no parameter 'K'"),
+    (dict(search_bounds={"C": (2.0, 1.0)}), "bounds={'C': (2, 1)}: the lower bound must be below the upper"),
+    (dict(fixed={"C": 1.0, "alpha": 0.5}), "every parameter of model 2 is fixed"),
+    (dict(runs=0), "runs=0: must be at least 1"),
+    (dict(pop=0), "pop=0: must be at least 1"),
+    (dict(intervals=1), "intervals=1: 0 (none) or at least 2 replicates"),
+])
+def test_a_request_is_checked_once_by_parameter_name(given, words):
+    with pytest.raises(fb.InputError) as exc:
+        FitRequest(spec="2", **given).check()
+    assert words in str(exc.value) and "\n" not in str(exc.value)
