@@ -23,7 +23,8 @@ import os
 import tempfile
 import time
 
-from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_ladder
+from fvd_bridge.diagnose import climb, diagnose, diagnose_settings
+from fvd_bridge.text.diagnosis import format_ladder
 from fvd_bridge.records import read_record
 from fvd_bridge.records.writers import write_csv
 from fvd_bridge.rig import DEMO_NOISE, Noise, demo_series, paper, simulate

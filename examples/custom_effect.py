@@ -67,7 +67,8 @@ EFFECTS = [
 
 
 def main() -> int:
-    from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
+    from fvd_bridge.diagnose import diagnose, diagnose_settings
+    from fvd_bridge.text.diagnosis import format_diagnosis
     from fvd_bridge.catalog import catalog
     from fvd_bridge.records import Record
     from fvd_bridge.rig import VirtualDamper, Noise, acceptance, simulate

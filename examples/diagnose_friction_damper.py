@@ -29,7 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
+from fvd_bridge.diagnose import climb, diagnose, diagnose_settings
+from fvd_bridge.text.diagnosis import format_diagnosis, format_ladder
 from fvd_bridge.fit import objective
 from fvd_bridge.records import ReadOptions, Record, read_record
 from fvd_bridge.records.velocity import derive

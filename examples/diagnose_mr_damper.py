@@ -20,7 +20,8 @@ import os
 import sys
 from pathlib import Path
 
-from fvd_bridge.diagnose import climb, diagnose_settings, format_diagnosis, format_ladder
+from fvd_bridge.diagnose import climb, diagnose_settings
+from fvd_bridge.text.diagnosis import format_diagnosis, format_ladder
 from fvd_bridge.records import ReadOptions, read_record
 
 DEVICES = Path(__file__).resolve().parents[1] / ".." / "shared" / "devices"

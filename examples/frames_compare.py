@@ -57,7 +57,8 @@ def main(argv=None) -> int:
     from fvd_bridge.frames.buildings import three_story
     from fvd_bridge.frames.compare import run_cases
     from fvd_bridge.records.motions import read_motion
-    from fvd_bridge.frames.outputs import format_frame_table, write_frame_outputs
+    from fvd_bridge.frames.outputs import write_frame_outputs
+    from fvd_bridge.text.frames import format_frame_table
     from fvd_bridge.rig import VirtualDamper, Noise, paper, production_series, write_series
 
     nominal = VirtualDamper(C=45.4, alpha=0.3, Ks=150.0, friction=3.0)

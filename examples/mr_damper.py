@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 from fvd_bridge.campaign.outputs import write_outputs
-from fvd_bridge.campaign.report import format_report
+from fvd_bridge.text.campaign import format_report
 from fvd_bridge.campaign.runner import CampaignSettings, run_campaign
 from fvd_bridge.records import ReadOptions, read_record
 

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 from ..errors import option
 from ..fit.layout import SEP
-from .text import per_test_text
+from ..text.calibration import per_test_text
 
 
 def refusal(cal) -> str:

@@ -47,7 +47,7 @@ nominal, lambda_test_min/max, lambda_min/max, lower, upper, note) and
 bounds.json (settings, rule, source, the design motion, per model its
 nominal device and rows, the models without bounds and why; what
 ``frame --property-bounds`` reads).  ``campaign`` and ``calibrate`` both write
-them, with ``compute`` and ``write``.
+them, with ``compute`` and ``write``, and print them with ``text.property_bounds``.
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.staging import plain, write_csv_rows, write_json
-from ..report.numbers import rounded, share, with_unit
+from ..report.numbers import rounded
 from .acceptance import Acceptance, forces_at_velocity, section, series_motion
 
 #: bounds.json's schema
@@ -203,32 +203,3 @@ def write(stage: str, bounds: dict) -> None:
                     "lambda_max", "lower", "upper", "note"], rows)
     write_json(os.path.join(stage, "bounds.json"), plain(bounds, finite=True))
 
-
-def format_bounds(bounds: dict) -> str:
-    """The printed table: per model and quantity the nominal, lambda_min,
-    lambda_max and the bounds, rounded (``report.numbers``)."""
-    s = bounds["settings"]
-    lines = ["", f"Upper and lower bounds at the design velocity V = {rounded(bounds['velocity'], digits=3)} mm/s "
-                 f"({SOURCE})",
-             f"{bounds['statistic']}; lambda_spec 1 -+ {share(s['spec'])}; lambda_ae {rounded(s['aging_min'], digits=3)}"
-             f" / {rounded(s['aging_max'], digits=3)}"]
-    head = ["model", "quantity", "nominal", "lambda_min", "lambda_max", "lower", "upper"]
-    body = []
-    for spec, m in bounds["models"].items():
-        for r in m["rows"]:
-            unit = "" if r["unit"] in ("-", "") else r["unit"]
-            body.append([f"law {spec}", with_unit(r["quantity"], unit), rounded(r["nominal"]),
-                         rounded(r["lambda_min"], digits=3), rounded(r["lambda_max"], digits=3),
-                         rounded(r["lower"]), rounded(r["upper"])])
-    width = [max(len(str(row[k])) for row in [head, *body]) for k in range(len(head))]
-    for row in [head, None, *body] if body else []:
-        if row is None:
-            lines.append("-" * (sum(width) + 2 * (len(width) - 1)))
-            continue
-        lines.append("  ".join(f"{row[k]:<{width[k]}}" if k < 2 else f"{row[k]:>{width[k]}}"
-                               for k in range(len(row))).rstrip())
-    nominal = ", ".join(f"law {spec}: {m['nominal_device']}" for spec, m in bounds["models"].items())
-    if nominal:
-        lines.append(f"nominal device (force at the design velocity nearest the series' mean): {nominal}")
-    lines += [f"no bounds: {why}" for why in bounds.get("skipped", {}).values()]
-    return "\n".join(lines)

@@ -11,7 +11,6 @@ import yaml
 from ..campaign import property_bounds as series_bounds
 from ..campaign.acceptance import Acceptance, series_motion
 from ..campaign.outputs import write_outputs
-from ..campaign.report import format_report
 from ..calibration import Calibration
 from ..campaign.engine import run_calibrations
 from ..campaign.executors import Processes
@@ -25,6 +24,8 @@ from ..fit.zero import FORCE_ZERO
 from ..io.staging import check_output
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
 from ..records.device import Device
+from ..text.campaign import format_report
+from ..text.property_bounds import format_bounds
 from .common import add_record_options, read_records
 
 
@@ -305,10 +306,10 @@ def design_acceptance(args) -> Acceptance:
 
 
 def bounds_text(bounds: dict, devices: int) -> str:
-    """The series' bounds as campaign prints them (campaign.property_bounds.format_bounds);
+    """The series' bounds as campaign prints them (text.property_bounds.format_bounds);
     with one device, one line saying what bounds.json holds (and one per model without bounds)."""
     if devices >= 2:
-        return series_bounds.format_bounds(bounds)
+        return format_bounds(bounds)
     spec = bounds["settings"]["spec"]
     lines = [f"bounds.json: one device, so no scatter measured (lambda_test = 1): the factors on the force at "
              f"{bounds['velocity']:g} mm/s are the specification's {1 - spec:g} and {1 + spec:g} alone "

@@ -38,7 +38,6 @@ from ..campaign import acceptance, production, property_bounds as bounds
 from ..campaign.acceptance import Acceptance
 from ..campaign.executors import Dask, Processes
 from ..campaign.outputs import write_outputs
-from ..campaign.report import format_report, format_series
 from ..campaign.resume import Resumable
 from ..campaign.engine import run_calibrations
 from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spec
@@ -48,6 +47,9 @@ from ..effects.plugins import file_sha256
 from ..errors import InputError
 from ..io.staging import check_output
 from ..records.device import Device
+from ..text.campaign import format_report, format_series
+from ..text.production import format_production
+from ..text.property_bounds import format_bounds
 from .calibrate import campaign_settings, option_parser, parse_option, unique_names
 from .common import read_records
 
@@ -233,8 +235,8 @@ def run(args) -> int:
     finally:
         store.close()
     print(format_report(summary) if len(records) <= 6 else format_series(summary))
-    print(production.format_production(made["prod"], made["accept"]))
-    print(bounds.format_bounds(made["bounds"]))
+    print(format_production(made["prod"], made["accept"]))
+    print(format_bounds(made["bounds"]))
     print(f"\nunits: {resumable.total} ({resumable.resumed} resumed from {store.root}, {store.computed} computed "
           f"now{f', {len(store.corrupt)} corrupt redone' if store.corrupt else ''})")
     print(f"wrote {p['out']}/ (params/, table_A7.csv, robustness.csv, pareto.csv, summary.json, production.csv, "

@@ -74,7 +74,8 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..diagnose import climb, diagnose, diagnose_settings, format_diagnosis, format_ladder
+    from ..diagnose import climb, diagnose, diagnose_settings
+    from ..text.diagnosis import format_diagnosis, format_ladder
 
     check_output(args.out, "dir", "--out")  # before any work: a bad path is one line, exit 2
     export_target(args.target)  # before any work

@@ -213,7 +213,8 @@ def sizing_command(args, target: float = 0.20) -> str:
 
 def run(args) -> int:
     from ..frames.compare import run_cases
-    from ..frames.outputs import format_frame_table, write_frame_outputs
+    from ..frames.outputs import write_frame_outputs
+    from ..text.frames import format_frame_table
 
     if args.periods:
         return print_periods(args)

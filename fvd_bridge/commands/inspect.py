@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import warnings
 
-from ..records import RecordWarning, format_summary, read_record, summarize
+from ..records import RecordWarning, read_record, summarize
+from ..text.record import format_summary
 from .common import add_record_options, read_options
 
 

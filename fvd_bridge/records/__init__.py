@@ -3,7 +3,7 @@
 from .options import ReadOptions, parse_mapping
 from .readers import RecordWarning, read_record
 from .record import Record
-from .summary import format_summary, summarize
+from .summary import summarize
 
 __all__ = ["Record", "ReadOptions", "RecordWarning", "parse_mapping", "read_record",
-           "summarize", "format_summary"]
+           "summarize"]

@@ -174,13 +174,14 @@ def test_a_model_fitted_per_test_has_no_bounds_and_says_why(tmp_path):
     from fvd_bridge.campaign import property_bounds as bounds
     from fvd_bridge.campaign.acceptance import Acceptance
     from fvd_bridge.campaign.runner import CampaignSettings
+    from fvd_bridge.text.property_bounds import format_bounds
 
     t = np.arange(0, 4, 0.01)
     rec = Record.from_arrays(t, 20 * np.sin(2 * np.pi * t), 50 * np.cos(2 * np.pi * t))
     cs = CampaignSettings(specs=("2",), per_test=((None, "alpha"),))
     b = bounds.compute({"devices": [rec.name], "models": {"2": {}}}, [rec], cs, Acceptance(), BoundSettings())
     assert b["models"] == {} and "alpha fitted per test" in b["skipped"]["2"]
-    assert "no bounds: alpha fitted per test" in bounds.format_bounds(b)
+    assert "no bounds: alpha fitted per test" in format_bounds(b)
     bounds.write(str(tmp_path), b)
     with pytest.raises(InputError, match="no model with force factors.*alpha fitted per test"):
         read_bounds(str(tmp_path))
@@ -292,6 +293,7 @@ def test_a_model_fitted_per_test_is_not_checked_against_the_nominal():
     from fvd_bridge.campaign import acceptance, production
     from fvd_bridge.campaign.acceptance import Acceptance
     from fvd_bridge.campaign.runner import CampaignSettings
+    from fvd_bridge.text.production import format_production
 
     t = np.arange(0, 4, 0.01)
     rec = Record.from_arrays(t, 20 * np.sin(2 * np.pi * t), 50 * np.cos(2 * np.pi * t))
@@ -299,5 +301,5 @@ def test_a_model_fitted_per_test_is_not_checked_against_the_nominal():
     a = acceptance.evaluate({"devices": [rec.name], "models": {"2": {}}}, [rec], cs, Acceptance(nominal_force=50.0))
     assert a["models"] == {} and "alpha fitted per test" in a["skipped"]["2"]
     prod = {"devices": [rec.name], "k": 3.0, "models": {}}
-    assert "law 2: not checked (alpha fitted per test" in production.format_production(prod, a)
+    assert "law 2: not checked (alpha fitted per test" in format_production(prod, a)
     assert "alpha fitted per test" in production.as_json(prod, a)["acceptance"]["skipped"]["2"]

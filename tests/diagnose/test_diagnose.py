@@ -17,13 +17,14 @@ import pytest
 
 from conftest import CLI, PLUGIN, REPO, cli_env
 from fvd_bridge import FittedParameter, cli
-from fvd_bridge.diagnose import climb, diagnose, diagnose_settings, format_ladder
+from fvd_bridge.diagnose import climb, diagnose, diagnose_settings
 from fvd_bridge.fit import fit_model
 from fvd_bridge.fit.objective import AT_FLOOR, NEAR_FLOOR
 from fvd_bridge.catalog import catalog
 from fvd_bridge.records import Record, read_record
 from fvd_bridge.records.writers import write_csv
 from fvd_bridge.rig import VirtualDamper, acceptance, paper
+from fvd_bridge.text.diagnosis import format_ladder
 from lab import lab_record
 
 C, ALPHA = 45.4, 0.3

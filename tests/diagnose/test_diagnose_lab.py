@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from fvd_bridge.catalog import catalog
-from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
+from fvd_bridge.diagnose import diagnose, diagnose_settings
 from fvd_bridge.diagnose.heldout import BaseFolds, folds, held_out
 from fvd_bridge.diagnose.where import half_cycles
 from fvd_bridge.fit import DEFAULT_OPTIMIZER, fit_model, settings_for
@@ -26,6 +26,7 @@ from fvd_bridge.golden import REFERENCE
 from fvd_bridge.records import Record
 from fvd_bridge.rig import VirtualDamper, acceptance, paper, trace
 from fvd_bridge.rig.model_device import simulate_model
+from fvd_bridge.text.diagnosis import format_diagnosis
 from lab import lab_from_forces
 
 C, ALPHA = 45.4, 0.3

@@ -14,11 +14,12 @@ import numpy as np
 import pytest
 
 from fvd_bridge.catalog import catalog
-from fvd_bridge.diagnose import diagnose, diagnose_settings, format_diagnosis
+from fvd_bridge.diagnose import diagnose, diagnose_settings
 from fvd_bridge.diagnose.zero import solve, zero_force
 from fvd_bridge.records import device as devices
 from fvd_bridge.records.velocity import rest_mask
 from fvd_bridge.rig import VirtualDamper, paper, trace
+from fvd_bridge.text.diagnosis import format_diagnosis
 from lab import lab_from_forces
 
 SETTINGS = diagnose_settings(8, 60)

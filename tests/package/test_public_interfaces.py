@@ -190,7 +190,7 @@ def test_bad_bound_is_refused_before_any_work(lab_csv, tmp_path):
 
 
 def test_report_columns_are_whole_and_apart():
-    from fvd_bridge.campaign.report import format_report
+    from fvd_bridge.text.campaign import format_report
 
     names = ["arts_brfd_0.5Hz_25lb", "arts_brfd_1Hz_35lb"]
     m = {"names": ["C", "alpha"], "units": ["kN/(mm/s)^alpha", "-"], "of_mean": np.array([0.1, 0.2]),
@@ -218,7 +218,7 @@ def test_the_python_examples_run_as_written(tmp_path, page):
 def test_report_says_what_one_device_cannot_tell():
     """With one device the robustness index is 0 by definition: the report
     says so, and its column is named apart from a law's parameter beta."""
-    from fvd_bridge.campaign.report import format_report
+    from fvd_bridge.text.campaign import format_report
 
     m = {"names": ["C", "alpha", "beta"], "units": ["kN/(mm/s)", "1/mm", "kN/mm"], "of_mean": np.array([0.1]),
          "of_sigma": np.array([0.0]), "p_mean": np.array([[0.2, 0.15, 27.0]]), "p_sigma": np.zeros((1, 3)),
