@@ -21,6 +21,7 @@ import os
 
 from ..errors import InputError
 from ..rig import PARAMETERS, TRUTH_FILE, VirtualDamper, Noise, from_spec, production_series, read_truth, write_series
+from .acceptance import Rating
 
 RIG_KEYS = ("devices", "nominal", "scatter", "protocol", "noise", "seed")
 PROTOCOL_KEYS = ("name", "amplitude", "velocity", "cycles", "dt")
@@ -99,9 +100,11 @@ def _build(spec: dict, where: str):
     return devices, protocol, noise
 
 
-def rig_nominal(spec: dict):
-    """The nominal VirtualDamper of a checked rig block."""
-    return VirtualDamper(**spec["nominal"])
+def rig_rating(spec: dict) -> Rating:
+    """The rating of a checked rig block's nominal damper: its orifice's C and
+    alpha (``acceptance.Rating``: C V^alpha at the design velocity; the virtual
+    damper's other parameters are what it is, not what it is rated)."""
+    return Rating(float(spec["nominal"]["C"]), float(spec["nominal"]["alpha"]), "rig nominal device")
 
 
 def rig_records(spec: dict, out: str, where: str) -> list[str]:

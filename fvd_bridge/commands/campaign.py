@@ -40,7 +40,7 @@ from ..campaign.executors import Dask, Processes
 from ..campaign.outputs import write_outputs
 from ..campaign.resume import Resumable
 from ..campaign.engine import run_calibrations
-from ..campaign.sources import expand_records, rig_nominal, rig_records, rig_spec
+from ..campaign.sources import expand_records, rig_rating, rig_records, rig_spec
 from ..campaign.stats import OUTLIER_K
 from ..campaign.store import UnitStore
 from ..effects.plugins import file_sha256
@@ -222,10 +222,8 @@ def run(args) -> int:
 
             def extra(stage, summary):
                 made["prod"] = production.analyse(summary, cs, p["k"])
-                nominal = None
-                if p["rig"] is not None:
-                    nominal = rig_nominal(p["rig"])
-                made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], nominal)
+                rating = rig_rating(p["rig"]) if p["rig"] is not None else None  # a virtual series: its nominal's
+                made["accept"] = acceptance.evaluate(summary, records, cs, p["acceptance"], rating=rating)
                 production.write(stage, made["prod"], made["accept"], figures)
                 made["bounds"] = bounds.compute(summary, records, cs, p["acceptance"], p["bounds"])
                 bounds.write(stage, made["bounds"])

@@ -17,6 +17,7 @@ import yaml
 
 from conftest import CLI, cli_env
 from fvd_bridge.calibration import checks
+from fvd_bridge.campaign import stats
 from fvd_bridge.campaign.runner import CampaignSettings
 from fvd_bridge.fit import FitResult
 
@@ -266,6 +267,30 @@ def test_acceptance_force_at_the_design_velocity():
     F = forces_at_velocity(parse_model("2").force(motion, P), motion.v)
     assert F == pytest.approx(np.repeat(P[:, :1] * 400.0 ** 0.3, 2, axis=1), rel=1e-4)  # tension, compression
 
+
+
+def test_a_rig_series_is_held_to_its_nominal_dampers_rating_not_to_the_rig():
+    """Without acceptance.nominal_force a rig series' nominal force is its nominal damper's rating, C V^alpha
+    (law 2's force on the acceptance sinusoid), not the rig's simulation of it: the nominal's seal friction
+    (2 kN) and spring are what the damper is, not what it is rated; the source says so."""
+    from types import SimpleNamespace
+
+    from fvd_bridge.campaign.acceptance import Acceptance, design_motion, evaluate
+    from fvd_bridge.campaign.sources import rig_rating, rig_spec
+    from fvd_bridge.records import Record
+
+    rating = rig_rating(rig_spec({"devices": 2, "nominal": {"C": 45.4, "alpha": 0.3, "friction": 2.0, "Ks": 150}},
+                                 "series.yaml"))
+    assert rating.force(design_motion(Acceptance(velocity=300.0), amplitude=30.0, dt=0.002)) == pytest.approx(
+        45.4 * 300.0 ** 0.3, rel=1e-4)
+    t = np.arange(0, 4, 0.002)
+    rec = Record.from_arrays(t, 30 * np.sin(2 * np.pi * t), 50 * np.cos(2 * np.pi * t), name="dev")
+    summary = {"devices": ["dev"], "models": {"2": {"best": {"dev": SimpleNamespace(params=np.array([45.4, 0.3]))}}}}
+    a = evaluate(summary, [rec], CampaignSettings(specs=("2",)), Acceptance(velocity=300.0), rating=rating)
+    assert a["nominal_force"] == pytest.approx(45.4 * 300.0 ** 0.3, rel=1e-4)
+    assert a["nominal_source"] == "rig nominal device: C V^alpha, law 2 with C 45.4, alpha 0.3"
+    assert a["models"]["2"]["deviation"][0] < 1e-4 and a["models"]["2"]["passed"][0]  # the rated device itself
+    assert evaluate(summary, [rec], CampaignSettings(specs=("2",)), Acceptance())["why_not"]  # no nominal: says so
 
 def test_derived_quantities_are_averaged_over_runs():
     """Law 8's slip force mu*N in the table is the mean (and sigma) of each
