@@ -70,10 +70,9 @@ def connection_force(law_number, PL, x, xv, xa, dt, slots: dict, substeps=1):
     (g <= 0) or a rigid spring (Ks >= KS_RIGID) is handled by the
     composition: the model without it."""
     c = np.ascontiguousarray
-    f = {k: c(v, dtype=float) for k, v in slots.items()}
+    table = c(np.column_stack([np.asarray(slots[slot], dtype=float) for slot in connection.SLOTS]))
     return connection.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float),
-                                        c(xa, dtype=float), float(dt), f["Ks"], f["g"], c(PL, dtype=float),
-                                        f["r"], f["theta"], f["Ff"], f["Kp"], f["F0"], int(substeps))
+                                        c(xa, dtype=float), float(dt), c(PL, dtype=float), table, int(substeps))
 
 
 def _gap_closed(values):

@@ -4,6 +4,28 @@ composition), solved per sample step by TR-BDF2 with one scalar root-find
 per stage; the population driver runs it for every parameter row in
 parallel (numba prange).  Mirrored in C by ``fmu/effects.c``.
 Units: kN, mm, s.
+
+The kernels take their values packed (read by the index names below):
+
+- the members' constants, one float64 table (a row a member, columns
+  SLOTS), packed once by the caller; inside, a member's row with the
+  derived HALF and EXPONENT, a tuple (``series_population``);
+- the state of ``series_sample``, a tuple (w, u, z, W0, pw, x_o, q, dq):
+  the connection's stretch [mm], the law's velocity [mm/s], its state z,
+  W0 [MJ], the law's power A law u [kN mm/s], its displacement [mm], and
+  the solver's unknown q and its last change (``series_rest``);
+- a sample step's motion, a tuple (y0, y1, v0, v1, a0, a1, dt): the pin's
+  displacement [mm], velocity [mm/s] and acceleration [mm/s^2] at the two
+  samples, and the step dt [s];
+- a stage's knowns, a tuple (y, wb, hth, x0, z0, zb, hf): the pin's
+  displacement at the stage's end y [mm], the stretch w = wb - hth u [mm]
+  (u [mm/s], hth [s]), the law's displacement x0 [mm] and state z0 at the
+  step's start, law 7's known part zb (``series_advance``) and the heat
+  factor hf [-].
+
+Inside the kernels these are tuples: numba keeps them on the stack, and an
+array passed to every call of the solver costs reference counting (20% of
+the connection's time, measured).
 """
 
 from __future__ import annotations
@@ -17,6 +39,20 @@ from ..laws.fastmath import powsign
 from ..laws.trbdf2 import TRBDF2_GAMMA
 from .element import element_force, law7_rate, law_exponent, q_to_u
 from .steps import J_TO_MJ, asymmetry_factor, heat_factor, parallel_spring
+
+#: columns of ``series_population``'s table (the effects' slots, in this
+#: order): Ks [kN/mm] (inf: a rigid contact), the gap's clearance g [mm]
+#: (0: none), asymmetry r [-], heating theta [1/MJ], friction Ff [kN], and
+#: behind a gap the parallel spring Kp [kN/mm] and preload F0 [kN]
+SLOTS = ("Ks", "g", "r", "theta", "Ff", "Kp", "F0")
+KS, GAP, ASYMMETRY, HEATING, FRICTION, KP, PRELOAD = range(len(SLOTS))
+#: derived per member (``series_population``): the half clearance h = g/2
+#: [mm] (``gap_half``) and the solver's exponent a (``law_exponent``)
+HALF, EXPONENT = len(SLOTS), len(SLOTS) + 1
+#: items of the state tuple (module docstring), as in ``fmu/effects.c``
+SW, SU, SZ, SW0, SPW, SXL, SQ, SDQ = range(8)
+#: the step dt [s], the last item of a sample step's motion tuple
+DT = 6
 
 
 @njit(cache=True)
@@ -77,35 +113,39 @@ def linear_travel(f, dt, v0, v1):
 
 
 @njit(cache=True)
-def series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0):
-    """R(q) = F_int(x(u), u) - Ks dz(w(u), h), u = u(q), w(u) = wb - hth u,
-    x = y - w (``dead_zone``, h = ``half``: w itself without a gap);
-    F_int = ``element_force`` + Kp x + F0 (the parallel spring behind a gap;
-    Kp = F0 = 0 otherwise); law 7's state over the stage:
-    z + hth q phi(z) = zb + (x - x0) (the same stage coefficient hth as the
-    spring's stretch).
+def series_residual(q, code, p, c, ks, stage):
+    """R(q) = F_int(x(u), u) - ks dz(w(u), h), u = u(q) (exponent
+    c[EXPONENT]), w(u) = wb - hth u, x = y - w (``dead_zone``,
+    h = c[HALF]: w itself without a gap); F_int = ``element_force`` + Kp x
+    + F0 (the parallel spring behind a gap; Kp = F0 = 0 otherwise); law 7's
+    state over the stage: z + hth q phi(z) = zb + (x - x0) (the same stage
+    coefficient hth as the spring's stretch).  c: the member's constants,
+    ks [kN/mm] the spring in effect (c[KS], or 0: nothing passes), stage:
+    the stage's knowns (module docstring).
 
     R increases with q; returns R, dR/dq (Newton; exact for laws 1-5,
     approximate for 6-9) and u, w, F_o, z."""
-    u, dudq = q_to_u(q, a)
+    y, wb, hth, x0, z0, zb, hf = stage
+    Kp, F0 = c[KP], c[PRELOAD]
+    u, dudq = q_to_u(q, c[EXPONENT])
     w = wb - hth * u
     x = y - w
-    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, zb, hth, r, hf, Ff)
+    Fi, Fo, z, dfric, dFdx = element_force(code, p, x, x0, u, z0, zb, hth, c[ASYMMETRY], hf, c[FRICTION])
     if Kp != 0.0 or F0 != 0.0:
         Fi = Fi + parallel_spring(Kp, F0, x)
-    s, ds = dead_zone(w, half)
-    kd = Ks * ds
+    s, ds = dead_zone(w, c[HALF])
+    kd = ks * ds
     if code <= 5 and code != 1:
-        dR = hf * asymmetry_factor(Fo, r) * p[0] + (dFdx * hth + dfric + (Kp + kd) * hth) * dudq
+        dR = hf * asymmetry_factor(Fo, c[ASYMMETRY]) * p[0] + (dFdx * hth + dfric + (Kp + kd) * hth) * dudq
     elif code == 1:
-        dR = (hf * asymmetry_factor(Fo, r) * p[0] + dfric + (Kp + kd) * hth) * dudq
+        dR = (hf * asymmetry_factor(Fo, c[ASYMMETRY]) * p[0] + dfric + (Kp + kd) * hth) * dudq
     else:
         dR = 0.0  # estimated by the solver from a secant
-    return Fi - Ks * s, dR, u, w, Fo, z
+    return Fi - ks * s, dR, u, w, Fo, z
 
 
 @njit(cache=True)
-def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0):
+def series_step(q_guess, code, p, c, ks, stage):
     """Solve R(q) = 0 (series_residual, R increasing) for one stage.
 
     Newton from ``q_guess`` (secant slopes for laws 6-9); until the signs of
@@ -115,7 +155,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff
     at the root."""
     lo, hi = -math.inf, math.inf
     q = q_guess
-    R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0)
+    R, dR, u, w, Fo, z = series_residual(q, code, p, c, ks, stage)
     q_prev, R_prev = math.nan, math.nan
     scale = 0.5 * abs(q) + 1e-3
     for _ in range(200):
@@ -130,7 +170,7 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff
                 dR = (R - R_prev) / (q - q_prev)
             else:
                 dq = 1e-7 * (1.0 + abs(q))
-                R2 = series_residual(q + dq, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0)[0]
+                R2 = series_residual(q + dq, code, p, c, ks, stage)[0]
                 dR = (R2 - R) / dq
         step = R / dR if dR > 0.0 else math.nan
         if abs(step) <= 1e-9 * (1.0 + abs(q)):
@@ -146,59 +186,62 @@ def series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff
             qn = 0.5 * (lo + hi)
             if hi - lo <= 1e-14 * (1.0 + abs(qn)):
                 q = qn
-                R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff,
-                                                     Kp, F0)
+                R, dR, u, w, Fo, z = series_residual(q, code, p, c, ks, stage)
                 break
         q_prev, R_prev = q, R
         q = qn
-        R, dR, u, w, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0)
+        R, dR, u, w, Fo, z = series_residual(q, code, p, c, ks, stage)
     return u, w, Fo, z
 
 
 @njit(cache=True)
-def series_stage(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0):
+def series_stage(q_guess, code, p, c, ks, stage):
     """One stage of ``series_advance``: u, w, F_o, z and the force F [kN]
     through the connection at the stage's end.
 
-    A spring (Ks finite): the root of ``series_residual`` (``series_step``),
-    F = Ks dz(w, h).  A rigid contact (Ks infinite: a gap without
+    A spring (ks finite): the root of ``series_residual`` (``series_step``),
+    F = ks dz(w, h).  A rigid contact (ks infinite: a gap without
     series_stiffness) is the limit of the same stage equation
     w = wb - hth u: contact on side s = +-1 holds where the element's force
     at w = s h, u_s = (wb - s h) / hth, has the sign s (F_int increases with
     u, so at most one side does, and the stiff spring's root would lie
     there); then u = u_s, w = s h, F = F_int(u_s).  Otherwise the connection
-    is open: F_int(u) = 0 (``series_step`` with Ks = 0), |w| <= h, F = 0."""
-    if not math.isinf(Ks):
-        u, w, Fo, z = series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, Ks, half, r, hf, Ff, Kp, F0)
-        return u, w, Fo, z, Ks * dead_zone(w, half)[0]
+    is open: F_int(u) = 0 (``series_step`` with ks = 0), |w| <= h, F = 0."""
+    half = c[HALF]
+    if not math.isinf(ks):
+        u, w, Fo, z = series_step(q_guess, code, p, c, ks, stage)
+        return u, w, Fo, z, ks * dead_zone(w, half)[0]
+    y, wb, hth, x0, z0, zb, hf = stage
+    a = c[EXPONENT]
     first = 1.0 if wb >= 0.0 else -1.0  # the side the connection leans to first
     for side in (first, -first):
         u = (wb - side * half) / hth
         q = powsign(u, a) if a != 1.0 else u
-        Fi, _, _, _, Fo, z = series_residual(q, a, code, p, y, wb, hth, x0, z0, zb, 0.0, half, r, hf, Ff, Kp, F0)
+        Fi, _, _, _, Fo, z = series_residual(q, code, p, c, 0.0, stage)
         if side * Fi > 0.0:
             return u, side * half, Fo, z, Fi
-    u, w, Fo, z = series_step(q_guess, a, code, p, y, wb, hth, x0, z0, zb, 0.0, half, r, hf, Ff, Kp, F0)
+    u, w, Fo, z = series_step(q_guess, code, p, c, 0.0, stage)
     return u, min(max(w, -half), half), Fo, z, 0.0
 
 
 @njit(cache=True)
-def series_rest(x0, Ks, half, Kp, F0):
+def series_rest(x0, c):
     """State of ``series_sample`` at rest, the pin at x0 [mm]: a gap's pin
     centred in its clearance, the law at rest; a spring (Ks [kN/mm] finite,
     no gap) holds the accumulator behind it, Kp [kN/mm] and F0 [kN], in
     equilibrium: Ks w = Kp (x0 - w) + F0 (none where Ks + Kp <= 0 has no
-    rest).  (w, u, z, W0, pw, x_o, q, dq)."""
-    w = (Kp * x0 + F0) / (Ks + Kp) if half == 0.0 and not math.isinf(Ks) and Ks + Kp > 0.0 else 0.0
+    rest).  c: the member's constants."""
+    Ks, Kp, F0 = c[KS], c[KP], c[PRELOAD]
+    w = (Kp * x0 + F0) / (Ks + Kp) if c[HALF] == 0.0 and not math.isinf(Ks) and Ks + Kp > 0.0 else 0.0
     return (w, 0.0, 0.0, 0.0, 0.0, x0 - w, 0.0, 0.0)
 
 
 @njit(cache=True)
-def series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0, a1, dt, fa, fb, h,
-                   jump):
+def series_advance(code, p, c, ks, state, sample, fa, fb, h):
     """One TR-BDF2 step of ``series_sample`` from the fraction fa to fb of
     the sample step dt [s], h = (fb - fa) dt [s] (passed: dt / substeps for
-    the regular sub-steps).  The pin's travel psi: the cubic Hermite
+    the regular sub-steps), with the spring ks [kN/mm] (c[KS], or 0 for the
+    element's force-free motion).  The pin's travel psi: the cubic Hermite
     interpolant of v, a (``hermite_travel``), or the displacement increment
     y1 - y0 spread linearly in time in a step where v jumps to or from 0;
     with a gap (half > 0) the TR-BDF2 rule itself on v linear between the
@@ -211,6 +254,9 @@ def series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0
     state after the step, F_o [kN] and the force F [kN] through the
     connection at its end."""
     w, u, z, W0, pw, xl, q, dq = state
+    y0, y1, v0, v1, a0, a1, dt = sample
+    a, half, theta = c[EXPONENT], c[HALF], c[HEATING]
+    jump = (v0 == 0.0) != (v1 == 0.0)
     g = TRBDF2_GAMMA  # trapezoidal rule to t + g h, then BDF2 (L-stable)
     c_g = 1.0 / (g * (2.0 - g))
     c_0 = (1.0 - g) ** 2 / (g * (2.0 - g))
@@ -238,15 +284,14 @@ def series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0
     wb = w + tr_g - 0.5 * g * h * u
     hth = 0.5 * g * h  # law 7's trapezoidal stage: z + hth q phi(z) = z - hth q phi(z0) + travel
     zb = z - hth * law7_rate(z, p) if code == 7 else 0.0
-    ug, wg, fog, zg, _ = series_stage(q + g * dq, a, code, p, yg, wb, hth, xl, z, zb, ks, half, r, hf, Ff, Kp, F0)
+    ug, wg, fog, zg, _ = series_stage(q + g * dq, code, p, c, ks, (yg, wb, hth, xl, z, zb, hf))
     pwg = fog * ug / hf
     # BDF2 stage to t + h
     wb = c_g * wg - c_0 * w + tr_h - c_g * tr_g
     qg = powsign(ug, a) if a != 1.0 else ug
     # law 7's BDF2 stage: z1 - c_g z_g + c_0 z = travel terms - c_h q phi(z1)
     zb = c_g * zg - c_0 * z - c_0 * (yg - wg - xl) if code == 7 else 0.0
-    u1, w1, fo, z1, F1 = series_stage(qg + (1.0 - g) * dq, a, code, p, yb, wb, c_h, yg - wg, zg, zb, ks, half, r,
-                                      hf, Ff, Kp, F0)
+    u1, w1, fo, z1, F1 = series_stage(qg + (1.0 - g) * dq, code, p, c, ks, (yb, wb, c_h, yg - wg, zg, zb, hf))
     pw1 = fo * u1 / hf
     W0 += (0.5 * g * h * (pw + pwg) + 0.5 * (1.0 - g) * h * (pwg + pw1)) * J_TO_MJ
     q1 = powsign(u1, a) if a != 1.0 else u1
@@ -263,23 +308,24 @@ CONTACT_PIECES = 4
 
 
 @njit(cache=True)
-def contact_fraction(code, p, a, half, r, theta, Ff, Kp, F0, state, w1, y0, y1, v0, v1, a0, a1, dt, fa, fb, jump):
+def contact_fraction(code, p, c, state, w1, sample, fa, fb):
     """Where in a step of ``series_advance`` (from the fractions fa to fb of
-    the sample step dt [s], from ``state``, ending at stretch w1 [mm]) the
+    the sample step, from ``state``, ending at stretch w1 [mm]) the
     contact gap closes, as a fraction s of the step; 0 when nothing is to be
     split off.
 
     The step closes the contact when w1 is in contact on a side other than
     the start's (``gap_side``).  From the clearance, s is where the
-    element's own force-free motion (the same step with Ks = 0: nothing
-    passes the connection) brings |w| to h = ``half``: regula falsi
+    element's own force-free motion (the same step with ks = 0: nothing
+    passes the connection) brings |w| to h = c[HALF]: regula falsi
     (Illinois) on the stretch at the end of the step cut at s.  A step that
     crosses the whole clearance (it starts in contact on the other side) is
     halved; one whose free motion reaches h only at its end (to rounding)
     is not split.  A contact within
     CONTACT_EDGE of either end is not split off: the step's own error is
     then of that size."""
-    w0 = state[0]
+    half, dt = c[HALF], sample[DT]
+    w0 = state[SW]
     side = gap_side(w1, half)
     if side == 0.0 or side == gap_side(w0, half):
         return 0.0
@@ -287,8 +333,7 @@ def contact_fraction(code, p, a, half, r, theta, Ff, Kp, F0, state, w1, y0, y1, 
         return 0.5
     lo, f_lo = 0.0, side * w0 - half
     hi = 1.0
-    f_hi = side * series_advance(code, p, a, 0.0, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0, a1, dt,
-                                 fa, fb, (fb - fa) * dt, jump)[0][0] - half
+    f_hi = side * series_advance(code, p, c, 0.0, state, sample, fa, fb, (fb - fa) * dt)[0][SW] - half
     if not f_hi > 0.0:
         return 0.0  # the free motion reaches h only at the end (to rounding)
     s = 1.0
@@ -296,8 +341,7 @@ def contact_fraction(code, p, a, half, r, theta, Ff, Kp, F0, state, w1, y0, y1, 
     for _ in range(40):
         s = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
         f = fa + (fb - fa) * s
-        f_s = side * series_advance(code, p, a, 0.0, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0, a1,
-                                    dt, fa, f, (f - fa) * dt, jump)[0][0] - half
+        f_s = side * series_advance(code, p, c, 0.0, state, sample, fa, f, (f - fa) * dt)[0][SW] - half
         if f_s > 0.0:
             hi, f_hi = s, f_s
             if last == 1:
@@ -316,47 +360,38 @@ def contact_fraction(code, p, a, half, r, theta, Ff, Kp, F0, state, w1, y0, y1, 
 
 
 @njit(cache=True)
-def series_sample(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0, a1, dt, substeps):
-    """One sample step dt [s] of ``series_population`` for one member (law
-    ``code``, parameters p, solver exponent a = ``law_exponent``, Ks [kN/mm]
-    (inf: a rigid contact), gap half clearance h [mm] (0: none), r [-],
-    theta [1/MJ], Ff [kN], the parallel spring behind a gap Kp [kN/mm],
-    F0 [kN]), cut in ``substeps`` TR-BDF2 steps (``series_advance``).
+def series_sample(code, p, c, state, sample, substeps):
+    """One sample step of ``series_population`` for one member (law
+    ``code``, parameters p, constants c (module docstring); Ks = inf a
+    rigid contact, half clearance 0 no gap), cut in ``substeps`` TR-BDF2
+    steps (``series_advance``); ``state`` and the motion ``sample`` as in the
+    module docstring.
 
-    y, v, a at the two samples: the body's displacement [mm], velocity
-    [mm/s] and acceleration [mm/s^2].  state = (w, u, z, W0, pw, x_o, q, dq):
-    the connection's stretch [mm], the law's velocity [mm/s], its state z, W0
-    [MJ], the law's power A law u [kN mm/s], its displacement [mm], and the
-    solver's unknown q and its last change (``series_rest``).  With a gap, a
-    step in which the contact closes is cut where it closes
+    With a gap, a step in which the contact closes is cut where it closes
     (``contact_fraction``): the law's velocity jumps there, and a step that
     starts at the contact integrates the jump exactly.  Returns the state
     at the sample, F [kN] through the connection (Ks dz(w, h), or the
     element's force in a rigid contact) and F_o [kN] of its last step."""
+    ks, half, dt = c[KS], c[HALF], sample[DT]
     h = dt / substeps
     fo, F = 0.0, 0.0
-    jump = (v0 == 0.0) != (v1 == 0.0)
     for j in range(substeps):
         f0, f1 = j / substeps, (j + 1) / substeps
         if half == 0.0:
-            state, fo, F = series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0,
-                                          a1, dt, f0, f1, h, jump)
+            state, fo, F = series_advance(code, p, c, ks, state, sample, f0, f1, h)
             continue
         fa = f0
         pieces = 0
         while fa < f1:
             fb = f1
-            new, fo, F = series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1, a0, a1,
-                                        dt, fa, fb, (fb - fa) * dt, jump)
+            new, fo, F = series_advance(code, p, c, ks, state, sample, fa, fb, (fb - fa) * dt)
             if pieces < CONTACT_PIECES:
                 for _ in range(CONTACT_SPLITS):
-                    s = contact_fraction(code, p, a, half, r, theta, Ff, Kp, F0, state, new[0], y0, y1, v0, v1, a0,
-                                         a1, dt, fa, fb, jump)
+                    s = contact_fraction(code, p, c, state, new[SW], sample, fa, fb)
                     if s == 0.0:
                         break
                     fb = fa + (fb - fa) * s
-                    new, fo, F = series_advance(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0, v1,
-                                                a0, a1, dt, fa, fb, (fb - fa) * dt, jump)
+                    new, fo, F = series_advance(code, p, c, ks, state, sample, fa, fb, (fb - fa) * dt)
             state = new
             fa = fb
             pieces += 1
@@ -364,11 +399,11 @@ def series_sample(code, p, a, ks, half, r, theta, Ff, Kp, F0, state, y0, y1, v0,
 
 
 @njit(parallel=True, cache=True)
-def series_population(code, x, xv, xa, dt, Ks, g, P, r, theta, Ff, Kp, F0, substeps):
+def series_population(code, x, xv, xa, dt, P, table, substeps):
     """The damper's connection in series with the internal element, for each
-    row i: a spring Ks[i] [kN/mm] (inf: a rigid contact, ``series_stage``)
-    whose force has a dead zone of half-width
-    h = g[i]/2 [mm] (a contact gap of clearance g; 0: a plain series
+    row i of P and ``table`` (columns SLOTS): a spring Ks [kN/mm] (inf: a
+    rigid contact, ``series_stage``) whose force has a dead zone of
+    half-width h = g/2 [mm] (a contact gap of clearance g; 0: a plain series
     spring; ``gap_half``), carrying
     the element (law ``code`` 1-9 with parameters P[i], asymmetry r [-],
     heating theta [1/MJ], friction Ff [kN], and behind a gap the parallel
@@ -419,15 +454,15 @@ def series_population(code, x, xv, xa, dt, Ks, g, P, r, theta, Ff, Kp, F0, subst
     for i in prange(pop):
         ri = rows[i]
         p = P[i]
-        a = law_exponent(code, p)
-        half = gap_half(g[i])
-        state = series_rest(x[ri, 0], Ks[i], half, Kp[i], F0[i])
-        XO[i, 0] = state[5]
-        F[i, 0] = Ks[i] * state[0] if state[0] != 0.0 else 0.0
+        row = table[i]  # the member's constants: its row, then HALF and EXPONENT
+        c = (row[KS], row[GAP], row[ASYMMETRY], row[HEATING], row[FRICTION], row[KP], row[PRELOAD],
+             gap_half(row[GAP]), law_exponent(code, p))
+        state = series_rest(x[ri, 0], c)
+        XO[i, 0] = state[SXL]
+        F[i, 0] = c[KS] * state[SW] if state[SW] != 0.0 else 0.0
         for k in range(1, n):
-            state, F[i, k], FO[i, k] = series_sample(code, p, a, Ks[i], half, r[i], theta[i], Ff[i], Kp[i],
-                                                     F0[i], state, x[ri, k - 1], x[ri, k], xv[ri, k - 1], xv[ri, k],
-                                                     xa[ri, k - 1], xa[ri, k], dt, substeps)
-            U[i, k] = state[1]
-            XO[i, k] = state[5]
+            sample = (x[ri, k - 1], x[ri, k], xv[ri, k - 1], xv[ri, k], xa[ri, k - 1], xa[ri, k], dt)
+            state, F[i, k], FO[i, k] = series_sample(code, p, c, state, sample, substeps)
+            U[i, k] = state[SU]
+            XO[i, k] = state[SXL]
     return F, U, FO, XO

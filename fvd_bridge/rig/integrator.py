@@ -20,6 +20,9 @@ k = 1 + Kp / Ks)
   F_int(u) + k h gamma Ks u = k (S_base + h gamma Ks v_y(t_stage)) - Kp y(t_stage) - F0,
 whose left side increases in u: a bracketed Newton iteration always converges.
 E enters through hf, updated by fixed-point iteration (coupling ~ theta dE).
+
+The device's constants reach the kernels as one float64 array
+(``device_constants``), read by the index names below.
 """
 
 from __future__ import annotations
@@ -36,6 +39,20 @@ B1 = -(6.0 * GAMMA * GAMMA - 16.0 * GAMMA + 1.0) / 4.0
 B2 = (6.0 * GAMMA * GAMMA - 20.0 * GAMMA + 5.0) / 4.0
 #: stage abscissae c_i of the SDIRK scheme (fractions of a step)
 STAGE_C = np.array([GAMMA, C2, 1.0])
+
+#: the device's constants (``device_constants``): C [kN/(mm/s)^alpha],
+#: alpha [-], asymmetry r [-], heating theta [1/MJ], friction Ff [kN] and
+#: its smoothing velocity v_f [mm/s], the series spring Ks [kN/mm], and
+#: behind it the accumulator Kp [kN/mm] and preload F0 [kN]
+DAMPING, ALPHA, ASYMMETRY, HEATING, FRICTION, V_FRICTION, KS, KP, PRELOAD = range(9)
+
+
+def device_constants(*, C, alpha, r, theta, Ff, vf, Ks, Kp, F0) -> np.ndarray:
+    """The device's constants as ``integrate_maxwell`` reads them (units above)."""
+    c = np.empty(PRELOAD + 1)
+    c[DAMPING], c[ALPHA], c[ASYMMETRY], c[HEATING], c[FRICTION] = C, alpha, r, theta, Ff
+    c[V_FRICTION], c[KS], c[KP], c[PRELOAD] = vf, Ks, Kp, F0
+    return c
 
 
 @njit(cache=True)
@@ -97,8 +114,11 @@ def solve_internal(rhs, K, hf, C, alpha, r, Ff, vf, u_guess):
 
 
 @njit(cache=True)
-def _stage(base_S, base_E, vy, y, K, Ks, Kp, F0, e_guess, u_guess, C, alpha, r, theta, Ff, vf, hg):
-    """One implicit stage: returns (u, S, E, kS, kE)."""
+def _stage(base_S, base_E, vy, y, K, hg, e_guess, u_guess, c):
+    """One implicit stage (K = hg Ks, hg = h gamma [s], c the device's
+    constants): returns (u, S, E, kS, kE)."""
+    C, alpha, r, theta, Ff, vf = c[DAMPING], c[ALPHA], c[ASYMMETRY], c[HEATING], c[FRICTION], c[V_FRICTION]
+    Ks, Kp, F0 = c[KS], c[KP], c[PRELOAD]
     rhs = base_S + K * vy
     k = 1.0 + Kp / Ks
     e = e_guess
@@ -119,12 +139,14 @@ def _stage(base_S, base_E, vy, y, K, Ks, Kp, F0, e_guess, u_guess, C, alpha, r, 
 
 
 @njit(cache=True)
-def integrate_maxwell(H, VY, Y, C, alpha, r, theta, Ff, vf, Ks, Kp, F0, S0, E0):
+def integrate_maxwell(H, VY, Y, c, S0, E0):
     """SDIRK3 over the nodes: H[n] step [s], VY[n, i] and Y[n, i] the damper
     body's velocity v_y [mm/s] and displacement y [mm] at the stage times
-    t_n + c_i H[n]; Kp [kN/mm], F0 [kN] the accumulator behind the spring;
-    S0 [kN] the spring's force at the start (its stretch S0 / Ks). Returns
-    S [kN], E [MJ] and v_o [mm/s] at every node (M + 1 values)."""
+    t_n + c_i H[n]; c the device's constants (``device_constants``); S0 [kN]
+    the spring's force at the start (its stretch S0 / Ks), E0 [MJ] the
+    energy. Returns S [kN], E [MJ] and v_o [mm/s] at every node (M + 1
+    values)."""
+    Ks = c[KS]
     M = H.size
     S = np.empty(M + 1)
     E = np.empty(M + 1)
@@ -140,16 +162,13 @@ def integrate_maxwell(H, VY, Y, C, alpha, r, theta, Ff, vf, Ks, Kp, F0, S0, E0):
         K = hg * Ks
         s0 = S[n]
         e0 = E[n]
-        u1, S1, E1, k1, q1 = _stage(s0, e0, VY[n, 0], Y[n, 0], K, Ks, Kp, F0, e0 + hg * kE_last, u,
-                                    C, alpha, r, theta, Ff, vf, hg)
+        u1, S1, E1, k1, q1 = _stage(s0, e0, VY[n, 0], Y[n, 0], K, hg, e0 + hg * kE_last, u, c)
         bS = s0 + h * A21 * k1
         bE = e0 + h * A21 * q1
-        u2, S2, E2, k2, q2 = _stage(bS, bE, VY[n, 1], Y[n, 1], K, Ks, Kp, F0, bE + hg * q1, u1,
-                                    C, alpha, r, theta, Ff, vf, hg)
+        u2, S2, E2, k2, q2 = _stage(bS, bE, VY[n, 1], Y[n, 1], K, hg, bE + hg * q1, u1, c)
         bS = s0 + h * (B1 * k1 + B2 * k2)
         bE = e0 + h * (B1 * q1 + B2 * q2)
-        u3, S3, E3, k3, q3 = _stage(bS, bE, VY[n, 2], Y[n, 2], K, Ks, Kp, F0, bE + hg * q2, u2,
-                                    C, alpha, r, theta, Ff, vf, hg)
+        u3, S3, E3, k3, q3 = _stage(bS, bE, VY[n, 2], Y[n, 2], K, hg, bE + hg * q2, u2, c)
         S[n + 1] = S3
         E[n + 1] = E3
         U[n + 1] = u3

@@ -40,7 +40,7 @@ import numpy as np
 from ..errors import InputError
 from ..records import Record
 from .device import VirtualDamper
-from .integrator import STAGE_C, integrate_maxwell
+from .integrator import STAGE_C, device_constants, integrate_maxwell
 from .protocols import Protocol
 
 #: target of h * (largest rate of the Maxwell equation) per integration step
@@ -294,8 +294,9 @@ def trace(device: VirtualDamper, protocol: Protocol, substeps: int | None = None
         behind = device.arrangement == "connection"  # the seal and the accumulator behind the spring
         Ff, Kp, F0 = (device.friction, device.Kp, device.preload) if behind else (0.0, 0.0, 0.0)
         S0 = Kp * y[0] + F0  # at rest: the spring holds the accumulator's force
-        S, En, U = integrate_maxwell(H, np.ascontiguousarray(VY), np.ascontiguousarray(YQ), device.C,
-                                     device.alpha, r, th, Ff, device.v_friction, device.Ks, Kp, F0, S0, 0.0)
+        c = device_constants(C=device.C, alpha=device.alpha, r=r, theta=th, Ff=Ff, vf=device.v_friction,
+                             Ks=device.Ks, Kp=Kp, F0=F0)
+        S, En, U = integrate_maxwell(H, np.ascontiguousarray(VY), np.ascontiguousarray(YQ), c, S0, 0.0)
         S, E, v_o = S[idx], En[idx], U[idx]
         hf = np.exp(-th * E)
         F_o = orifice_force(v_o, device, hf)
