@@ -26,6 +26,7 @@ from ..io.staging import num, staged_dir, write_csv_rows, write_json
 from ..records.device import as_device
 from . import stats
 from ..calibration.checks import fit_warnings
+from ..calibration.runs import FittedRuns
 from ..report.page import build_report
 from .executors import Processes, Serial
 
@@ -46,7 +47,7 @@ def summarize(records, results: dict, cs) -> dict:
     law1 = {dev: np.mean([x.of for x in results[(dev, "1")]]) for dev in devices if (dev, "1") in results}
     models = {}
     for spec in cs.specs:
-        every = [results[(dev, spec)] for dev in devices]  # FittedRuns
+        every = [FittedRuns(results[(dev, spec)]) for dev in devices]
         per_dev = [runs.asked for runs in every]  # the runs asked: their statistics
         names, units = per_dev[0][0].names, per_dev[0][0].units
         P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)

@@ -6,6 +6,7 @@ calibration path (``calibration.runs``) through the campaign's executor."""
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from typing import NamedTuple
 
 from .. import timing
 from ..calibration.request import Extends, FitRequest
@@ -15,9 +16,36 @@ from ..fit import DEFAULT_OPTIMIZER, settings_for
 from .executors import Processes
 
 
+class BoundOption(NamedTuple):
+    """A --bound (or a --fix: lower == upper) of the models ``spec`` names (None: every model having it)."""
+
+    spec: str | None
+    name: str
+    lower: float
+    upper: float
+
+
+class PerTestOption(NamedTuple):
+    """A --per-test: a parameter fitted per test, of ``spec``'s model (None: every model having it)."""
+
+    spec: str | None
+    name: str
+
+
+class ValueOption(NamedTuple):
+    """A --start-value: where the search of a parameter starts, in ``spec``'s model (None: every model having it)."""
+
+    spec: str | None
+    name: str
+    value: float
+
+
 @dataclass(frozen=True)
 class CampaignSettings:
-    """What a campaign runs: model specs, runs per (device, model), optimizer and its settings."""
+    """What a campaign runs: model specs, runs per (device, model), the
+    optimizer and its settings, and options that apply to some models
+    (``BoundOption``, ``PerTestOption``, ``ValueOption``; plain tuples
+    are taken as them); ``request(spec)`` is what one model is asked."""
 
     specs: tuple
     runs: int = 20
@@ -29,13 +57,21 @@ class CampaignSettings:
     stall: int | None = None
     jobs: int = 0  # 0: one process per core
     plugins: tuple = field(default_factory=tuple)  # plugin file paths
-    bound_overrides: tuple = field(default_factory=tuple)  # (spec or None, name, lower, upper)
-    per_test: tuple = field(default_factory=tuple)  # (spec or None, name): parameters fitted per test
-    start: tuple | None = None  # (spec, names, values) of a calibration file to start from
-    start_values: tuple = field(default_factory=tuple)  # (spec or None, name, value): start values of some parameters
+    bound_overrides: tuple = field(default_factory=tuple)  # BoundOptions
+    per_test: tuple = field(default_factory=tuple)  # PerTestOptions: parameters fitted per test
+    start: Extends | None = None  # a calibration file to start from (the models that extend it)
+    start_values: tuple = field(default_factory=tuple)  # ValueOptions: start values of some parameters
     intervals: int = 0  # bootstrap replicates of each calibration's parameter intervals (0: none)
     all_runs: bool = False  # make every run, also after the first ones agreed (``first_runs``)
     force_zero: str = "none"  # 'per-test': each test's force zero fitted beside the model (fit.zero; not exported)
+
+    def __post_init__(self):
+        """Options given as plain tuples become their named forms."""
+        object.__setattr__(self, "bound_overrides", tuple(BoundOption(*o) for o in self.bound_overrides))
+        object.__setattr__(self, "per_test", tuple(PerTestOption(*o) for o in self.per_test))
+        object.__setattr__(self, "start_values", tuple(ValueOption(*o) for o in self.start_values))
+        if self.start is not None and not isinstance(self.start, Extends):
+            object.__setattr__(self, "start", Extends(*self.start))
 
     @property
     def catalog(self):
@@ -46,48 +82,32 @@ class CampaignSettings:
         """The Model of one of the campaign's specs."""
         return self.catalog.model(spec)
 
-    def overrides_for(self, spec: str) -> dict:
-        """{name: (lower, upper)} of the --bound options that apply to ``spec``."""
-        return {name: (lo, hi) for s, name, lo, hi in self.bound_overrides if s in (None, spec)}
-
-    def per_test_for(self, spec: str) -> tuple:
-        """The --per-test parameters that apply to ``spec``."""
+    def _applies(self, options, spec: str) -> list:
+        """The options that apply to ``spec``'s model: its own and every model's, naming one of its parameters."""
         names = self.model(spec).names
-        return tuple(dict.fromkeys(n for s, n in self.per_test if s in (None, spec) and n in names))
-
-    def start_for(self, spec: str) -> tuple | None:
-        """(names, values) of the --start calibration when ``spec``'s model
-        extends it (same law, its effects among the model's), else None."""
-        if self.start is None:
-            return None
-        given, model = self.model(self.start[0]), self.model(spec)
-        if given.law is not model.law or not set(given.effect_names) <= set(model.effect_names):
-            return None
-        return self.start[1], self.start[2]
+        return [o for o in options if o.spec in (None, spec) and o.name in names]
 
     @property
     def fits_zero(self) -> bool:
         """Whether each test's force zero is fitted beside the models (``force_zero`` 'per-test')."""
         return self.force_zero == "per-test"
 
-    def start_values_for(self, spec: str) -> dict:
-        """{name: value} of the --start-value options that apply to ``spec``."""
-        names = self.model(spec).names
-        return {name: v for s, name, v in self.start_values if s in (None, spec) and name in names}
-
     def request(self, spec: str) -> FitRequest:
         """The FitRequest of one of the campaign's models: the options that apply to it."""
-        names = self.model(spec).names
-        given = {n: bounds for n, bounds in self.overrides_for(spec).items() if n in names}
-        start = self.start_for(spec)
+        given = {o.name: (o.lower, o.upper) for o in self._applies(self.bound_overrides, spec)}
+        extends = self.start if self.start is not None and self.start.fits(self.model(spec), self.catalog) else None
         return FitRequest(spec=spec, plugins=self.plugins, bounds=self.bounds,
                           search_bounds={n: (lo, hi) for n, (lo, hi) in given.items() if lo != hi},
                           fixed={n: lo for n, (lo, hi) in given.items() if lo == hi},
-                          per_test=self.per_test_for(spec), start_values=self.start_values_for(spec),
-                          extends=None if start is None else Extends(self.start[0], *start),
-                          optimizer=self.optimizer, pop=self.pop, gens=self.gens, stall=self.stall, seed=self.seed,
-                          runs=self.runs, all_runs=self.all_runs, intervals=self.intervals,
+                          per_test=tuple(dict.fromkeys(o.name for o in self._applies(self.per_test, spec))),
+                          start_values={o.name: o.value for o in self._applies(self.start_values, spec)},
+                          extends=extends, optimizer=self.optimizer, pop=self.pop, gens=self.gens, stall=self.stall,
+                          seed=self.seed, runs=self.runs, all_runs=self.all_runs, intervals=self.intervals,
                           force_zero=self.force_zero, position=self.specs.index(spec))
+
+    def per_test_for(self, spec: str) -> tuple:
+        """The parameters ``spec``'s model fits per test."""
+        return self.request(spec).per_test
 
     def requests(self) -> list[FitRequest]:
         """One FitRequest per model, in the campaign's order."""
@@ -102,8 +122,8 @@ class CampaignSettings:
                 "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
                 "all_runs": self.all_runs, "start_values": [list(o) for o in self.start_values],
                 **({"force_zero": self.force_zero} if self.fits_zero else {}),  # (files of before: unchanged)
-                "start": None if self.start is None else {"model": self.start[0],
-                                                          "values": dict(zip(self.start[1], self.start[2]))}}
+                "start": None if self.start is None else {"model": self.start.spec,
+                                                          "values": dict(zip(self.start.names, self.start.values))}}
 
 
 def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=None) -> dict:

@@ -14,12 +14,13 @@ from ..campaign.outputs import write_outputs
 from ..calibration import Calibration
 from ..campaign.engine import run_calibrations
 from ..campaign.executors import Processes
-from ..campaign.runner import CampaignSettings
+from ..calibration.request import Extends
+from ..campaign.runner import BoundOption, CampaignSettings, PerTestOption, ValueOption
 from ..catalog import catalog as load_catalog
 from ..errors import InputError
 from .. import timing
-from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS, settings_for
-from ..fit.intervals import REPLICATES, replicates
+from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS
+from ..fit.intervals import REPLICATES
 from ..fit.zero import FORCE_ZERO
 from ..io.staging import check_output
 from ..laws import BOUND_MODES, LAWS, PAPER_SPEC, parse_law_list
@@ -134,7 +135,7 @@ def parse_bound(text: str) -> tuple:
         raise InputError(f"--bound '{text}': expected [LAW:]NAME=LO,HI, e.g. 9:alpha=0,50")
     if not lo < hi:
         raise InputError(f"--bound '{text}': the lower bound must be below the upper")
-    return (spec or None, name, lo, hi)
+    return BoundOption(spec or None, name, lo, hi)
 
 
 def parse_value(text: str, flag: str = "--fix") -> tuple:
@@ -147,13 +148,13 @@ def parse_value(text: str, flag: str = "--fix") -> tuple:
         raise InputError(f"{flag} '{text}': expected [LAW:]NAME=VALUE, e.g. 9:beta=1.6") from None
     if not sep or not name or not np.isfinite(x):
         raise InputError(f"{flag} '{text}': expected [LAW:]NAME=VALUE with a finite value, e.g. 9:beta=1.6")
-    return (spec or None, name, x)
+    return ValueOption(spec or None, name, x)
 
 
 def parse_fix(text: str) -> tuple:
     """'[SPEC:]NAME=VALUE' -> (spec or None, name, value, value): a bound of one value."""
     spec, name, x = parse_value(text, "--fix")
-    return (spec, name, x, x)
+    return BoundOption(spec, name, x, x)
 
 
 def option_parser() -> argparse.ArgumentParser:
@@ -213,12 +214,6 @@ def apply_config(args) -> None:
 
 def campaign_settings(args) -> CampaignSettings:
     cat = load_catalog(args.plugin)
-    replicates(args.intervals)
-    for name in ("runs", "pop", "gens", "stall"):
-        value = getattr(args, name)
-        if value is not None and value < 1:
-            raise InputError(f"--{name} {value}: must be at least 1")
-    settings_for(args.optimizer, args.pop, args.gens, args.stall)
     specs = parse_specs(str(args.laws), cat)
     overrides = tuple(parse_bound(b) for b in args.bound) + tuple(parse_fix(f) for f in args.fix)
     start_values = tuple(parse_value(text, "--start-value") for text in args.start_value)
@@ -234,16 +229,19 @@ def campaign_settings(args) -> CampaignSettings:
     start = None
     if args.start:
         given = Calibration.load(args.start, cat)
-        start = (given.spec, tuple(given.model.names), tuple(float(x) for x in given.values))
+        start = Extends.of(given)
         if not any(cat.model(s).law is given.model.law and set(given.model.effect_names) <= set(cat.model(s).effect_names)
                    for s in specs):
             raise InputError(f"--start {args.start}: no model of --laws {args.laws} extends its model {given.spec} "
                              f"(same law, its effects among the model's)")
-    return CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
-                            optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
-                            stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
-                            bound_overrides=overrides, per_test=per_test, start=start, intervals=args.intervals,
-                            start_values=start_values, all_runs=args.all_runs, force_zero=args.force_zero)
+    cs = CampaignSettings(specs=specs, runs=args.runs, bounds=args.bounds,
+                          optimizer=args.optimizer, seed=args.seed, pop=args.pop, gens=args.gens,
+                          stall=args.stall, jobs=args.jobs, plugins=tuple(args.plugin),
+                          bound_overrides=overrides, per_test=per_test, start=start, intervals=args.intervals,
+                          start_values=start_values, all_runs=args.all_runs, force_zero=args.force_zero)
+    for request in cs.requests():  # each model's request, checked as fb.calibrate checks its one
+        request.check()
+    return cs
 
 
 def parse_per_test(text: str, specs, catalog) -> tuple:
@@ -255,7 +253,7 @@ def parse_per_test(text: str, specs, catalog) -> tuple:
     targets = [spec] if spec else list(specs)
     if not name or not any(name in catalog.model(t).names for t in targets):
         raise InputError(f"--per-test {text}: {_none_has(name, targets, catalog)}")
-    return (spec, name)
+    return PerTestOption(spec, name)
 
 
 def _none_has(name: str, specs: list, catalog) -> str:
