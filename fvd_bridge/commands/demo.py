@@ -17,7 +17,7 @@ import time
 from .. import timing
 from ..campaign.executors import Processes
 from ..campaign.outputs import write_outputs
-from ..campaign.report import format_report
+from ..text.campaign import format_report
 from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS
 from ..io.staging import check_output, removed_on_failure
