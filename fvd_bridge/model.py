@@ -87,6 +87,14 @@ class Model:
         """Parameter names in vector order: the law's, then 'effect.param'."""
         return self.law.names + [n for e in self.effects for n in e.names]
 
+    def known_parameter(self, name: str, given: str) -> str:
+        """``name``, a parameter of the model; else an InputError in one
+        line: '{given}: model 2 has no parameter 'K' (has: C, alpha)'
+        (``given``: the option or argument that named it, in the caller's words)."""
+        if name not in self.names:
+            raise InputError(f"{given}: model {self.spec} has no parameter '{name}' (has: {', '.join(self.names)})")
+        return name
+
     @property
     def units(self) -> list[str]:
         """Each parameter's unit (kN, mm, s), in the model's order."""

@@ -118,9 +118,7 @@ class FitRequest:
                  + [("--start-value", name, v) for name, v in self.start_values.items()]
                  + [("--per-test", name, None) for name in self.per_test])
         for flag, name, value in given:
-            if name not in model.names:
-                raise InputError(f"{parameter_option(flag, name, value)}: model {self.spec} has no parameter "
-                                 f"'{name}' (has: {', '.join(model.names)})")
+            model.known_parameter(name, parameter_option(flag, name, value))
         for name, (lo, hi) in self.search_bounds.items():
             if not lo <= hi:
                 raise InputError(f"{parameter_option('--bound', name, (lo, hi))}: the lower bound must be below "

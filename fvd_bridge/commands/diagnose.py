@@ -141,10 +141,7 @@ def _per_test(text: str, model) -> str:
     spec, _, name = str(text).rpartition(":")
     if spec and spec != model.spec:
         raise InputError(f"--per-test {text}: law {spec} is not the model diagnosed ({model.spec})")
-    if name not in model.names:
-        raise InputError(f"--per-test {text}: model {model.spec} has no parameter '{name}' "
-                         f"(has: {', '.join(model.names)})")
-    return name
+    return model.known_parameter(name, f"--per-test {text}")
 
 
 def _refits(diag, lad) -> dict:

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError, bound_option, command, option
+from ..errors import InputError, bound_option, command, option, parameter_option
 from ..records.device import as_device
 from .de import DESettings, polish, run_de
 from .ga import GASettings, run_ga
@@ -38,15 +38,14 @@ def settings_for(optimizer: str, pop: int | None = None, gens: int | None = None
     return DESettings(popsize=pop or base.popsize, gens=gens or base.gens)
 
 
-def apply_overrides(names: list, spec: str, bounds: np.ndarray, overrides: dict) -> np.ndarray:
-    """Replace the bounds of named parameters (and of their per-test columns
-    'NAME@TEST'); unknown names and empty ranges are input errors."""
+def apply_overrides(model, names: list, bounds: np.ndarray, overrides: dict) -> np.ndarray:
+    """Replace the bounds of ``model``'s named parameters (and of their
+    per-test columns 'NAME@TEST' among ``names``); unknown names and empty
+    ranges are input errors."""
     b = bounds.copy()
     for name, (lo, hi) in overrides.items():
+        model.known_parameter(name, bound_option(name, lo, hi))
         cols = [k for k, n in enumerate(names) if n == name or n.startswith(name + "@")]
-        if not cols:
-            given = option("--bound", name, name=name, lo="...", hi="...")
-            raise InputError(f"{given}: model {spec} has no parameter '{name}' (has: {', '.join(names)})")
         if not lo <= hi:  # lower == upper: the caller fixes the parameter there
             raise InputError(f"{bound_option(name, lo, hi)}: the lower bound must be below the upper")
         b[cols] = (lo, hi)
@@ -144,7 +143,7 @@ def _fit_once(model, device, layout, *, bounds, overrides, optimizer, seed, sett
     mode, b, space, evaluate, residuals = _problem(model, device, layout, bounds, overrides, mask, substeps)
     rng = np.random.default_rng(seed)
     if isinstance(start, dict):  # some parameters' start values, the data's (or the bounds' middle) for the rest
-        start = start_with(layout.names, data_start(model, device, layout.per_test), b, start, model.spec)
+        start = start_with(model, layout.names, data_start(model, device, layout.per_test), b, start)
     if start is None and local_search:  # the local search starts from the data's candidates
         start = data_start(model, device, layout.per_test)
     p0 = None if start is None else np.clip(np.atleast_2d(np.asarray(start, dtype=float)), b[:, 0], b[:, 1])
@@ -177,16 +176,14 @@ def _fit_once(model, device, layout, *, bounds, overrides, optimizer, seed, sett
                      off=layout.repeat(model.off_values()), tests=list(device.test_names))
 
 
-def start_with(names: list, base, bounds: np.ndarray, values: dict, spec: str) -> np.ndarray:
+def start_with(model, names: list, base, bounds: np.ndarray, values: dict) -> np.ndarray:
     """Start rows (k, n_cols): ``base`` (the data's candidates; None: the
-    bounds' middle) with the named parameters (and their per-test columns)
-    at ``values``."""
+    bounds' middle) with ``model``'s named parameters (and their per-test
+    columns among ``names``) at ``values``."""
     rows = np.atleast_2d(np.array(base if base is not None else bounds.mean(axis=1), dtype=float))
     for name, value in values.items():
+        model.known_parameter(name, parameter_option("--start-value", name, value))
         cols = [k for k, n in enumerate(names) if n == name or n.startswith(name + "@")]
-        if not cols:
-            raise InputError(f"start={{{name!r}: {value}}}: model {spec} has no parameter '{name}' "
-                             f"(has: {', '.join(names)})")
         rows[:, cols] = float(value)
     return rows
 
@@ -200,7 +197,7 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
         log = layout.repeat(list(model.log_scale(mode))) if mode == "auto" else None
     else:
         mode, b, log = "custom", np.asarray(bounds, dtype=float), None
-    b = apply_overrides(layout.names, model.spec, b, overrides or {})
+    b = apply_overrides(model, layout.names, b, overrides or {})
     space = Space.of(b, log)
 
     weights = residual_weights(device, mask)

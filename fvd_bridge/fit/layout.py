@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, option
+from ..errors import option
 
 #: 'NAME@TEST': a parameter's value on one test of a joint fit
 SEP = "@"
@@ -33,9 +33,7 @@ class Layout:
 
     def __post_init__(self):
         for name in self.per_test:
-            if name not in self.model.names:
-                raise InputError(f"{option('--per-test', name)}: model {self.model.spec} has no parameter '{name}' "
-                                 f"(has: {', '.join(self.model.names)})")
+            self.model.known_parameter(name, option("--per-test", name))
 
     @property
     def free(self) -> tuple:
