@@ -89,8 +89,16 @@ class Model:
 
     def known_parameter(self, name: str, given: str) -> str:
         """``name``, a parameter of the model; else an InputError in one
-        line: '{given}: model 2 has no parameter 'K' (has: C, alpha)'
-        (``given``: the option or argument that named it, in the caller's words)."""
+        line: "{given}: model 2 has no parameter 'K' (has: C, alpha)".
+
+        Parameters
+        ----------
+        name : str
+            A parameter's name, e.g. 'alpha' or 'friction.Ff'.
+        given : str
+            The option or argument that named it, in the caller's words
+            (``errors.parameter_option``).
+        """
         if name not in self.names:
             raise InputError(f"{given}: model {self.spec} has no parameter '{name}' (has: {', '.join(self.names)})")
         return name
