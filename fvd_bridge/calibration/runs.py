@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from contextlib import nullcontext
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -217,11 +218,26 @@ class _Plan:
             self.bar.update()
 
 
-def refit_task(key: tuple, first: int, request, replicas, params, noise, bounds):
-    """The Newton refits (fit.intervals.newton_refits) of replicas ``first``,
-    ``first`` + 1, ... of one (device, model) calibration: (estimates, OFs)."""
-    layout = Layout(request.model, tuple(as_device(replicas[0]).test_names), request.per_test, request.fits_zero)
-    return newton_refits(request.model, layout, replicas, params, noise, bounds)
+@dataclass(frozen=True)
+class RefitBatch:
+    """Replicas ``first``, ``first`` + 1, ... of one (device, model)
+    calibration ``key``: the replica records, the best run's parameters,
+    the noise they were drawn with and the search bounds."""
+
+    key: tuple
+    first: int
+    request: object  # FitRequest
+    replicas: list
+    params: np.ndarray
+    noise: object
+    bounds: np.ndarray
+
+
+def refit_task(batch: RefitBatch):
+    """The Newton refits (fit.intervals.newton_refits) of one RefitBatch: (estimates, OFs)."""
+    q = batch.request
+    layout = Layout(q.model, tuple(as_device(batch.replicas[0]).test_names), q.per_test, q.fits_zero)
+    return newton_refits(q.model, layout, batch.replicas, batch.params, batch.noise, batch.bounds)
 
 
 def fit_intervals(records, results: dict, requests, *, executor=None, progress: bool = False) -> dict:
@@ -241,7 +257,7 @@ def fit_intervals(records, results: dict, requests, *, executor=None, progress: 
                                                          seed=[q.seed, 7], force_zero=q.fits_zero)
             width = best.params.size + 2 * len(best.zero or {})  # the tests' force zero after the parameters
             drawn[key] = (q, layout, best, np.zeros((len(replicas), width)), np.zeros(len(replicas)))
-            items += [(key, b, q, replicas[b:b + REPLICAS_PER_TASK], best.params, noise, best.bounds)
+            items += [(RefitBatch(key, b, q, replicas[b:b + REPLICAS_PER_TASK], best.params, noise, best.bounds),)
                       for b in range(0, len(replicas), REPLICAS_PER_TASK)]
     if not drawn:
         return {}
@@ -249,9 +265,9 @@ def fit_intervals(records, results: dict, requests, *, executor=None, progress: 
     bar = progress_bar(replicates, progress, unit="replicate",
                        desc=f"intervals ({replicates // len(drawn)} replicates of {len(drawn)} calibration(s))")
     try:
-        for item, (estimates, ofs) in executor.run(refit_task, items):
-            all_estimates, all_ofs = drawn[item[0]][3:]
-            first = item[1]
+        for (batch,), (estimates, ofs) in executor.run(refit_task, items):
+            all_estimates, all_ofs = drawn[batch.key][3:]
+            first = batch.first
             all_estimates[first:first + len(ofs)], all_ofs[first:first + len(ofs)] = estimates, ofs
             bar.update(len(ofs))
     finally:
