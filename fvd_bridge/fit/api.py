@@ -234,8 +234,11 @@ def joint_residuals(model, device, layout, P: np.ndarray, mask=None, substeps: i
     for k, (test, c) in enumerate(zip(device.tests, weights)):
         if c is None:
             continue
-        e = model.force(test, layout.for_test(P, k), substeps) - test.F
-        parts.append(c * (pins[k].remove(e) if layout.zero else e))
+        e = model.force(test, layout.for_test(P, k), substeps)  # a new array: the steps below work in it
+        e -= test.F
+        e = pins[k].remove(e) if layout.zero else e
+        e *= c
+        parts.append(e)
     return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
 
 
@@ -243,7 +246,8 @@ def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: i
                     weights: list | None = None, pins: list | None = None) -> np.ndarray:
     """Eq. 18 on each test, weighted by the device's weights: (pop,) for P (pop, n_cols).
     ``mask``: one boolean array (a single test) or a list (per test, None: all samples)."""
-    return np.abs(joint_residuals(model, device, layout, P, mask, substeps, weights, pins)).sum(axis=-1)
+    R = joint_residuals(model, device, layout, P, mask, substeps, weights, pins)
+    return np.abs(R, out=R).sum(axis=-1)
 
 
 def polish_model(model, record, start: np.ndarray, mask=None, bounds: str = "auto",

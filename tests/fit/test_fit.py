@@ -6,7 +6,7 @@ import pytest
 
 from fvd_bridge.campaign import stats
 from fvd_bridge.fit import fit_model, noise_floor, objective
-from fvd_bridge.fit.ga import GASettings, run_ga
+from fvd_bridge.fit.ga import GASettings, roulette, run_ga
 from fvd_bridge.fit.local import L1_TOLERANCE
 from fvd_bridge.catalog import parse_model
 from fvd_bridge.records import Record
@@ -115,6 +115,22 @@ def test_ga_reuses_identical_children_without_changing_the_result():
     assert evals == sum(calls) < 30 + 79 * 29  # converged generations repeat members
     assert f == pytest.approx(_sphere(x[None, :])[0])
     assert np.all(np.diff(hist) <= 0.0)
+
+
+def test_ga_roulette_draws_what_numpy_choice_draws():
+    # the GA draws a generation's parents from one block of uniform numbers;
+    # Generator.choice with the roulette's probabilities drew the same parents
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        f = rng.random(40) ** 3
+        f[rng.random(40) < 0.1] = np.inf  # never drawn
+        fitness = np.where(np.isfinite(f), 1.0 / f, 0.0)
+        seed = int(rng.integers(1 << 30))
+        a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+        expected = [a.choice(40, 39, p=fitness / fitness.sum()) for _ in range(2)]
+        drawn = roulette(f, b.random(78))
+        np.testing.assert_array_equal(drawn, np.concatenate(expected))
+        assert np.isfinite(f[drawn]).all()
 
 
 def test_fit_is_reproducible_by_seed():
