@@ -16,6 +16,8 @@ import os
 import sys
 from pathlib import Path
 
+import numpy as np
+
 #: a kernel every calibration compiles: its cache index marks a warm cache
 MARKER = "algebraic.*.nbi"
 
@@ -30,7 +32,13 @@ def cache_dir() -> Path:
 
 def configure() -> None:
     """Point numba at ``cache_dir()``, unless NUMBA_CACHE_DIR is set or the
-    folder cannot be made (then numba's own default stays)."""
+    folder cannot be made (then numba's own default stays); then make its
+    index updates one step across processes (``_lock_index_updates``)."""
+    _point_numba_at_cache_dir()
+    _lock_index_updates()
+
+
+def _point_numba_at_cache_dir() -> None:
     if os.environ.get("NUMBA_CACHE_DIR"):
         return
     path = cache_dir()
@@ -43,6 +51,46 @@ def configure() -> None:
         from numba.core import config
 
         config.CACHE_DIR = str(path)
+
+
+def _lock_index_updates() -> None:
+    """Make numba's update of a kernel's cache index one step across processes.
+
+    numba saves a compiled kernel by reading the kernel's index file, adding
+    the new entry with the next free data file name and writing the index
+    back.  Two processes that save two specializations of one kernel at once
+    (a pool's workers compiling its block widths, two test workers) can each
+    write back an index without the other's entry, both under the same data
+    file name: the entry lost compiles again in the next process, and an
+    index can name a data file that holds the other specialization.  Here
+    that read-add-write holds an exclusive lock (``flock``) on a file beside
+    the index; nothing changes where ``fcntl`` is missing (Windows)."""
+    try:
+        import fcntl
+    except ImportError:
+        return
+    from numba.core.caching import IndexDataCacheFile
+
+    save = IndexDataCacheFile.save
+    if getattr(save, "locked", False):
+        return
+
+    def locked_save(self, key, data):
+        with open(os.path.join(self._cache_path, "index.lock"), "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+            return save(self, key, data)
+
+    locked_save.locked = True
+    IndexDataCacheFile.save = locked_save
+
+
+def kernel_array(x) -> np.ndarray:
+    """``x`` as a kernel's argument: float64, C-contiguous and writable (a
+    copy only if it is not).  numba compiles a kernel once per argument
+    type, and a read-only array (a broadcast view, a row of one) is a type
+    of its own: passed one, a kernel compiled and cached for writable arrays
+    compiles again."""
+    return np.require(x, dtype=np.float64, requirements="CW")
 
 
 def cold() -> bool:

@@ -6,6 +6,11 @@ lab-like CSVs, read back, and all nine laws are calibrated on every device
 with 20 runs each (default optimizer), then summarised as in Table A.7 and
 Fig. 14.  ``--quick`` keeps the 20 runs with a smaller optimizer population
 (DE 8 per parameter, 60 generations, then the polish).
+
+The laws' kernels are compiled (or loaded from numba's cache) first, in the
+pool's workers side by side (``laws.catalog.kernel_tasks``): each worker
+compiles some and loads the others, where each would otherwise compile every
+one at the same time as the other.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS
 from ..io.staging import check_output, removed_on_failure
 from ..laws import PAPER_LAWS
+from ..laws.catalog import compile_kernel, kernel_tasks
 from ..records import read_record
 from ..rig import DEMO_NOISE, Noise, demo_series, paper, write_series
 
@@ -72,7 +78,10 @@ def _run(args) -> int:
     print(f"demo: {len(records)} virtual devices, paper protocol (10 cycles, 40 mm, 0.5 m/s), records in "
           f"{rec_dir}/; {len(cs.specs)} laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
           file=sys.stderr)
-    with Processes(cs.jobs) as executor:  # one pool for the fits and the figures
+    with Processes(cs.jobs) as executor:  # one pool for the kernels, the fits and the figures
+        with timing.stage("kernels (compiled or loaded, side by side in the workers)"):
+            for _ in executor.run(compile_kernel, kernel_tasks(cs.specs)):
+                pass
         with timing.stage("fits"):
             results = run_campaign(records, cs, executor=executor)
         book_fit_times(results)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ..kernel_cache import kernel_array
 from .steps import algebraic_form, algebraic_force, sign_log
 
 
@@ -38,8 +39,7 @@ def _general(code, d, v, P):
     columns = algebraic_form.py_func(code, P.T)
     sv, lv = _sign_log(v)
     sd, ld = _sign_log(d)
-    return _algebraic(d, sv, lv, sd, ld, *(np.ascontiguousarray(np.broadcast_to(c, P.shape[:1]), dtype=float)
-                                            for c in columns))
+    return _algebraic(d, sv, lv, sd, ld, *(kernel_array(np.broadcast_to(c, P.shape[:1])) for c in columns))
 
 
 def law1(d, v, dt, P, substeps=1):

@@ -10,6 +10,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import InputError, option
+from ..kernel_cache import kernel_array
 from .scalar import members
 
 BOUND_MODES = ("auto", "paper")
@@ -153,7 +154,15 @@ class Law:
         if P.shape[1] != len(self.parameters):
             raise InputError(f"law {self.number}: expected {len(self.parameters)} parameters "
                              f"({', '.join(self.names)}), got {P.shape[1]}")
-        d, v, P = (np.ascontiguousarray(x, dtype=float) for x in (d, v, P))
+        d, v, P = (kernel_array(x) for x in (d, v, P))  # one compiled signature (kernel_cache)
         if self.population is None:
             return members(self.number, d, v, float(dt), P, int(substeps))
         return self.population(d, v, float(dt), P, int(substeps))
+
+    def compile_kernel(self, members: int) -> None:
+        """Compile, or load from numba's cache, the kernel this law runs on a
+        population of ``members`` (``catalog.kernel_tasks``): its force on 16
+        samples of a sine at its reference parameters, as a fit calls it."""
+        t = np.arange(16) * 0.01
+        self.force(10.0 * np.sin(2 * np.pi * t), 20 * np.pi * np.cos(2 * np.pi * t), 0.01,
+                   np.tile(np.asarray(self.reference, dtype=float), (members, 1)))

@@ -5,17 +5,28 @@ sampling step dt (optionally split in ``substeps``), v linear between
 samples: P (pop, n_par) -> F (pop, n_t) [kN].  The population is cut into
 blocks of members that advance in time together: a block keeps its members'
 constants and states in the rows of one work array and applies the updates
-of ``steps.py`` lane by lane (SIMD); the blocks run in parallel (numba prange).  Per-member constants are computed once,
+of ``steps.py`` lane by lane (SIMD).  Per-member constants are computed once,
 before the time loop.  A block is padded with copies of its last member, and
 a member's force does not depend on the others.
+
+Each law's kernel integrates a range of blocks; ``_run`` splits a population's
+blocks over numba's threads (``numba.get_num_threads()``: one in a campaign's
+worker processes), each part a kernel call that releases the GIL.  The kernels
+are plain compiled functions, not numba ``prange`` loops: numba's parfor
+passes analyse the whole inlined body of a ``prange``, which took 4-5x the
+compile time of the kernel itself, for the same speed (the step functions
+call nothing that keeps a lane loop scalar, ``fastmath.py``).
 """
 
 from __future__ import annotations
 
 import os
+from concurrent.futures import ThreadPoolExecutor
+from functools import cache
 
+import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .fastmath import FASTMATH, scalar
 from .steps import (bouc_wen_constants, bouc_wen_step, law6_bouc_wen, law8_constants, law9_constants, linear_force,
@@ -25,23 +36,26 @@ from .trbdf2 import (LAM_MIN, NEWTON_MAXIT, law7_constants, maxwell_bdf2_rhs, ma
 
 # OpenMP threads busy-wait between parallel regions by default, taking the CPU
 # that the GA's own Python code and other processes need; on a busy 2-core
-# machine that made these kernels up to 10x slower.  Read when numba starts its
-# threads (the first parallel call); a user's own setting is kept.
+# machine that made the prange kernels (then these, now the algebraic laws')
+# up to 10x slower.  Read when numba starts its threads (``_run`` asks their
+# number); a user's own setting is kept.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 # Blocks of members integrated together; the width is the length of a tuple,
-# so that numba compiles it as a constant.  Populations go 32 members a block
-# (16 for law 7, whose Newton steps wait for a block's slowest member); up to
-# NARROW_UPTO members go 4 a block (a local search's point and its
-# forward-difference neighbours: about the time of one member alone), and one
-# member alone (a polish's single evaluation).
-LANES_32, LANES_16, LANES_4, LANES_1 = (0.0,) * 32, (0.0,) * 16, (0.0,) * 4, (0.0,)
+# so that numba compiles it as a constant, and each width is a kernel compiled
+# of its own (two per law).  Populations go 32 members a block (16 for law 7,
+# whose Newton steps wait for a block's slowest member); up to NARROW_UPTO
+# members go 4 a block (a local search's point and its forward-difference
+# neighbours, a polish's single evaluation: about the time of one member
+# alone, one SIMD register wide).
+LANES_32, LANES_16, LANES_4 = (0.0,) * 32, (0.0,) * 16, (0.0,) * 4
 NARROW_UPTO = 12
-parallel_driver = njit(parallel=True, cache=True, fastmath=FASTMATH, error_model="numpy")
+#: a law's kernel: (d, v, dt, c, substeps, lanes, b0, b1) -> F of the blocks b0..b1-1
+block_kernel = njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 
 # Rows of a block's work array (one value per member): the state, the
 # per-member constants (from ``steps.lawN_constants``) and, last, the member's
-# parameters as given.  One array allocated in the driver lets the compiler
+# parameters as given.  One array allocated in the kernel lets the compiler
 # prove the rows apart, so the lane loops are SIMD without run-time checks.
 Z, FORCE = 0, 1  # every law: z and the force of the current sample [kN]
 A_D, B_Z, C_V, STEP = 2, 3, 4, 5  # laws 6, 8, 9: F = a d + b z + C v; the step's constants from STEP
@@ -51,17 +65,32 @@ LN_C, P, INV_P, LN_K, BETA = range(14, 19)  # law 7 constants
 MAXWELL_PARS = 19  # law 7: first parameter row (C, alpha, K, beta)
 
 
-def _run(driver, wide, d, v, dt, substeps, *columns):
-    """driver(d, v, dt, c, substeps, lanes) on the table c (n_par, n) of the
-    members' parameter columns, n padded to whole blocks (one member alone,
-    up to NARROW_UPTO in blocks of 4, more in blocks of len(wide)) by
-    repeating the last member; returns F (pop, n_t) [kN]."""
+def _run(kernel, wide, d, v, dt, substeps, *columns):
+    """kernel(d, v, dt, c, substeps, lanes, b0, b1) on the table c (n_par, n)
+    of the members' parameter columns, n padded to whole blocks (up to
+    NARROW_UPTO members in blocks of 4, more in blocks of len(wide)) by
+    repeating the last member, the blocks split over numba's threads (a
+    population of narrow blocks runs on one: a thread's start costs more);
+    returns F (pop, n_t) [kN]."""
     table = np.vstack(np.broadcast_arrays(*[np.asarray(col, dtype=float) for col in columns]))
     pop = table.shape[1]
-    lanes = LANES_1 if pop == 1 else LANES_4 if pop <= NARROW_UPTO else wide
+    lanes = LANES_4 if pop <= NARROW_UPTO else wide
     pad = np.repeat(table[:, -1:], -pop % len(lanes), axis=1)
     c = np.ascontiguousarray(np.concatenate([table, pad], axis=1))
-    return driver(d, v, dt, c, substeps, lanes)[:pop]
+    n_blocks = c.shape[1] // len(lanes)
+    parts = min(numba.get_num_threads(), n_blocks) if lanes is wide else 1
+    ends = [n_blocks * k // parts for k in range(parts + 1)]
+    others = [_threads().submit(kernel, d, v, dt, c, substeps, lanes, b0, b1)
+              for b0, b1 in zip(ends[1:-1], ends[2:])]
+    F = [kernel(d, v, dt, c, substeps, lanes, 0, ends[1])] + [run.result() for run in others]
+    return (F[0] if parts == 1 else np.vstack(F))[:pop]
+
+
+@cache
+def _threads() -> ThreadPoolExecutor:
+    """The threads that run a population's other parts (the caller runs the first)."""
+    return ThreadPoolExecutor(max_workers=max(numba.config.NUMBA_NUM_THREADS - 1, 1),
+                              thread_name_prefix="fvd_bridge-kernel")
 
 
 @scalar
@@ -92,18 +121,17 @@ def _sub_velocities(v0, v1, j, m):
 # --- laws 6, 8, 9: rate-independent, exact for v linear between samples -----
 
 @njit(inline="always")
-def _travel_force(d, v, dt, c, substeps, lanes, setup, advance):
-    """F = a d + b z + C v [kN] (``steps.linear_force``), the constants set by
-    ``setup(s)`` from the parameters, z from 0 moved by ``advance(s, u)`` over
-    each travel u of one sign (a step's travel is split where v changes
-    sign).  Inlined into each law's driver, which fixes ``setup`` and
-    ``advance`` (function arguments would defeat numba's cache)."""
-    n_lanes, n = c.shape[1], d.size
-    F = np.empty((n_lanes, n))
+def _travel_force(d, v, dt, c, substeps, lanes, b0, b1, setup, advance):
+    """F = a d + b z + C v [kN] (``steps.linear_force``) of the blocks b0..b1-1,
+    the constants set by ``setup(s)`` from the parameters, z from 0 moved by
+    ``advance(s, u)`` over each travel u of one sign (a step's travel is
+    split where v changes sign).  Inlined into each law's kernel, which fixes
+    ``setup`` and ``advance`` (function arguments would defeat numba's cache)."""
+    n = d.size
+    F = np.empty(((b1 - b0) * len(lanes), n))
     h = dt / substeps
-    for block in prange(n_lanes // len(lanes)):
-        i0 = block * len(lanes)
-        s = _work(c, i0, TRAVEL_PARS, lanes)
+    for block in range(b0, b1):
+        s = _work(c, block * len(lanes), TRAVEL_PARS, lanes)
         setup(s)
         for k in range(n):
             for j in range(substeps if k > 0 else 0):
@@ -113,7 +141,7 @@ def _travel_force(d, v, dt, c, substeps, lanes, setup, advance):
                         advance(s, u)
             for lane in range(s.shape[1]):
                 s[FORCE, lane] = linear_force(s[A_D, lane], s[B_Z, lane], s[C_V, lane], d[k], s[Z, lane], v[k])
-            _store(F, k, s, i0)
+            _store(F, k, s, (block - b0) * len(lanes))
     return F
 
 
@@ -133,9 +161,9 @@ def _bouc_wen_advance(s, u):
         s[Z, lane] = bouc_wen_step(s[Z, lane], u, s[STEP, lane], s[STEP + 1, lane], s[STEP + 2, lane])
 
 
-@parallel_driver
-def _bouc_wen_force(d, v, dt, c, substeps, lanes):
-    return _travel_force(d, v, dt, c, substeps, lanes, _bouc_wen_setup, _bouc_wen_advance)
+@block_kernel
+def _bouc_wen_force(d, v, dt, c, substeps, lanes, b0, b1):
+    return _travel_force(d, v, dt, c, substeps, lanes, b0, b1, _bouc_wen_setup, _bouc_wen_advance)
 
 
 def bouc_wen_force(d, v, dt, *, C, K, alpha, A, beta, gamma, substeps=1):
@@ -167,9 +195,9 @@ def _slip_advance(s, u):
         s[Z, lane] = slip_step(s[Z, lane], u, s[STEP, lane])
 
 
-@parallel_driver
-def _slip_force(d, v, dt, c, substeps, lanes):
-    return _travel_force(d, v, dt, c, substeps, lanes, _slip_setup, _slip_advance)
+@block_kernel
+def _slip_force(d, v, dt, c, substeps, lanes, b0, b1):
+    return _travel_force(d, v, dt, c, substeps, lanes, b0, b1, _slip_setup, _slip_advance)
 
 
 def law8(d, v, dt, P, substeps=1):
@@ -192,9 +220,9 @@ def _lugre_advance(s, u):
         s[Z, lane] = lugre_step(s[Z, lane], u, s[STEP, lane])
 
 
-@parallel_driver
-def _lugre_force(d, v, dt, c, substeps, lanes):
-    return _travel_force(d, v, dt, c, substeps, lanes, _lugre_setup, _lugre_advance)
+@block_kernel
+def _lugre_force(d, v, dt, c, substeps, lanes, b0, b1):
+    return _travel_force(d, v, dt, c, substeps, lanes, b0, b1, _lugre_setup, _lugre_advance)
 
 
 def law9(d, v, dt, P, substeps=1):
@@ -205,21 +233,19 @@ def law9(d, v, dt, P, substeps=1):
 # --- law 7: TR-BDF2 (steps.py) -------------------------------------------------
 
 @scalar
-def _maxwell_first(s, lane, r):
-    """Start the solve of x + c sign(x)|x|^p = r in one lane and take the
-    first Newton step (``steps.maxwell_start``, ``steps.maxwell_newton``)."""
-    lam0, s[LN_R, lane], R = maxwell_start(r, s[ABS_R, lane], s[LAM, lane], s[LAM1, lane], s[LAM2, lane],
-                                           s[LN_R, lane], s[LN_C, lane], s[INV_P, lane])
-    lam, s[E1, lane], s[E2, lane], s[INV_G1, lane], s[DONE, lane] = maxwell_newton(lam0, R, s[LN_C, lane],
-                                                                                   s[P, lane])
-    s[RHS, lane], s[ABS_R, lane], s[LAM, lane], s[DLAM, lane] = r, R, lam, lam - lam0
+def _maxwell_start(s, lane, r):
+    """Start the solve of x + c sign(x)|x|^p = r in one lane (``steps.maxwell_start``)."""
+    s[LAM, lane], s[LN_R, lane], s[ABS_R, lane] = maxwell_start(
+        r, s[ABS_R, lane], s[LAM, lane], s[LAM1, lane], s[LAM2, lane], s[LN_R, lane], s[LN_C, lane], s[INV_P, lane])
+    s[RHS, lane], s[DONE, lane] = r, 0.0
 
 
 @scalar
-def _maxwell_polish(s):
-    """Further Newton steps until every lane has converged; a lane that has
-    stays put, so its result does not depend on the others."""
-    for _ in range(NEWTON_MAXIT):
+def _maxwell_newton(s):
+    """Newton steps (``steps.maxwell_newton``) until every lane has converged,
+    at most 1 + NEWTON_MAXIT; a lane that has stays put, so its result does
+    not depend on the others."""
+    for _ in range(1 + NEWTON_MAXIT):
         moving = 0  # an integer 'or' over the lanes, which compiles to SIMD
         for lane in range(s.shape[1]):
             moving |= np.int64(s[DONE, lane] == 0.0)
@@ -245,21 +271,22 @@ def _maxwell_end(s, lane):
     return x
 
 
-@parallel_driver
-def _maxwell_force(d, v, dt, c, substeps, lanes):
-    """Law 7 for the parameter table c (rows C, alpha, K, beta): F (n_lanes,
-    n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K,
+@block_kernel
+def _maxwell_force(d, v, dt, c, substeps, lanes, b0, b1):
+    """Law 7 for the blocks b0..b1-1 of the parameter table c (rows C, alpha,
+    K, beta): F ((b1 - b0) len(lanes), n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K,
     beta.  State rows: z, c phi(z) = r - z, and of the last solve its right
     side r, |r|, a coarse ln|r|, ln|x|, the slopes of ln|x|(ln|r|) and the
     last Newton evaluation (e1, e2, 1/(e1 + p e2), step, converged).  Each solve step appears
     once in the code (a loop over the two stages; a solve's root is taken at
-    the start of the next one), which halves numba's compile time."""
-    n_lanes, n = c.shape[1], d.size
-    F = np.empty((n_lanes, n))
+    the start of the next one; every Newton step, the first too, in
+    ``_maxwell_newton``): numba inlines each appearance anew, and its compile
+    time grows with them."""
+    n = d.size
+    F = np.empty(((b1 - b0) * len(lanes), n))
     h = dt / substeps
-    for block in prange(n_lanes // len(lanes)):
-        i0 = block * len(lanes)
-        s = _work(c, i0, MAXWELL_PARS, lanes)
+    for block in range(b0, b1):
+        s = _work(c, block * len(lanes), MAXWELL_PARS, lanes)
         q = MAXWELL_PARS
         for lane in range(s.shape[1]):
             s[LN_C, lane], s[P, lane], s[INV_P, lane], s[LN_K, lane], s[BETA, lane] = law7_constants(
@@ -276,11 +303,11 @@ def _maxwell_force(d, v, dt, c, substeps, lanes):
                             s[Z, lane], s[C_PHI, lane] = x, s[RHS, lane] - x
                         r = (maxwell_tr_rhs(s[Z, lane], s[C_PHI, lane], va, vb, h) if stage == 0
                              else maxwell_bdf2_rhs(x, s[Z, lane], vb, h))
-                        _maxwell_first(s, lane, r)
-                    _maxwell_polish(s)
+                        _maxwell_start(s, lane, r)
+                    _maxwell_newton(s)
             for lane in range(s.shape[1]):  # z has the sign of r and ln|z| = lam
                 s[FORCE, lane] = maxwell_force(s[RHS, lane], s[LAM, lane], s[LN_K, lane], s[BETA, lane])
-            _store(F, k, s, i0)
+            _store(F, k, s, (block - b0) * len(lanes))
     return F
 
 

@@ -2,6 +2,12 @@
 numba can vectorize (it cannot vectorize calls to the C library's exp and
 log), and the ``scalar`` decorator every scalar step function uses.
 
+A step function avoids Python's ``max``/``min`` (``fmax``/``fmin``) and
+``x ** 2`` (``x * x``) too: numba compiles those as calls to functions of
+their own, which LLVM inlines only after it has tried to vectorize a
+kernel's lane loops, so one such call leaves a loop scalar (law 7's
+drivers were 3-4x slower, ``differential.py``).
+
 The textbook range reductions and Taylor series, accurate to a few units in
 the last place; plain arithmetic and bit operations that port to C (the
 FMU's C code uses the C library's exp and log instead).
@@ -35,6 +41,18 @@ ATANH_SERIES = tuple(1.0 / (2 * j + 1) for j in range(10, -1, -1))  # atanh(t)/t
 EXP_SERIES4 = tuple(tuple(1.0 / math.factorial(j) for j in range(12, -1, -1) if j % 4 == k) for k in range(4))
 LOG1P_COARSE = (-0.25, 1.0 / 3.0, -0.5, 1.0, 0.0)  # ln(1 + u) to u^4: error < 2.3e-3 for |u| <= 0.415
 COARSE_LOG_ERROR = 0.01  # bound on |coarse_log(x) - ln x|, with margin
+
+
+@scalar
+def fmax(a, b):
+    """max(a, b) as Python's and numba's (b if b > a, else a), inlined."""
+    return b if b > a else a
+
+
+@scalar
+def fmin(a, b):
+    """min(a, b) as Python's and numba's (b if b < a, else a), inlined."""
+    return b if b < a else a
 
 
 @intrinsic
@@ -77,7 +95,7 @@ def vexp(x):
     """e^x: x = n ln2 + r with |r| <= ln2/2, e^r by its Taylor series to degree
     12 (truncation < 2e-16), 2^n from the exponent bits.  Saturates at
     x = 709; 0 for x < -708."""
-    xc = min(max(x, EXP_MIN), EXP_MAX)
+    xc = fmin(fmax(x, EXP_MIN), EXP_MAX)
     n = math.floor(xc * 1.4426950408889634 + 0.5)
     r = (xc - n * LN2_HI) - n * LN2_LO
     e = poly4(r, EXP_SERIES4) * _bits_float((np.int64(n) + 1023) << 52)
@@ -122,7 +140,8 @@ def log1p_ratio(y):
     near = (y > SQRT2 / 2.0 - 1.0) & (y < SQRT2 - 1.0)
     yn = y if near else 0.0
     yf = 1.0 if near else y
-    series = 2.0 / (2.0 + yn) * horner((yn / (2.0 + yn)) ** 2, ATANH_SERIES)
+    t = yn / (2.0 + yn)
+    series = 2.0 / (2.0 + yn) * horner(t * t, ATANH_SERIES)
     direct = vlog(1.0 + yf) / yf
     return series if near else direct
 

@@ -96,7 +96,7 @@ def _travel_step(code, k, z, u):
 def _maxwell_solve(k, s, r):
     """Solve x + c sign(x)|x|^p = r (law 7's stage): start from the previous
     solve (``trbdf2.maxwell_start``), Newton steps until converged (at most
-    1 + NEWTON_MAXIT); as ``differential._maxwell_first`` and ``_maxwell_polish``."""
+    1 + NEWTON_MAXIT); as ``differential._maxwell_start`` and ``_maxwell_newton``."""
     lam0, s[LN_R], R = maxwell_start(r, s[ABS_R], s[LAM], s[LAM1], s[LAM2], s[LN_R], k[LN_C], k[INV_P])
     lam, s[E1], s[E2], s[INV_G1], done = maxwell_newton(lam0, R, k[LN_C], k[P])
     s[RHS], s[ABS_R], s[LAM], s[DLAM], s[DONE] = r, R, lam, lam - lam0, done

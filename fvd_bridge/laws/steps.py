@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from .fastmath import log1p_ratio, relax, scalar, vexp, vlog
+from .fastmath import fmax, fmin, log1p_ratio, relax, scalar, vexp, vlog
 
 @scalar
 def split_travel(v0, v1, h):
@@ -52,7 +52,7 @@ def bouc_wen_step(z, u, A, beta, gamma):
     s0 = 0.0 if not unloading else (s0 if y > -1.0 else 1e300)  # 1e300: w = 0 is never reached
     w_un = w + (A - k_un * w) * s * relax(k_un * s)
     w1 = 0.0 if unloading else w
-    s2 = max(s - s0, 0.0)
+    s2 = fmax(s - s0, 0.0)
     w_lo = w1 + (A - k_lo * w1) * s2 * relax(k_lo * s2)
     return sgn * (w_un if unloading & (s < s0) else w_lo)
 
@@ -70,7 +70,7 @@ def lugre_step(z, u, a):
 def slip_step(z, u, k):
     """Lu friction element (paper eq. 13, exact): dz/dt = k v while |z| < 1 or
     z v < 0, else 0; an elastic-perfectly-plastic element with z held in [-1, 1]."""
-    return min(max(z + k * u, -1.0), 1.0)
+    return fmin(fmax(z + k * u, -1.0), 1.0)
 
 
 # --- the algebraic laws 1-5 ----------------------------------------------------
@@ -157,8 +157,8 @@ def linear_force(a, b, C, d, z, v):
 def maxwell_log_rate(C, alpha, K):
     """ln q of law 7, q = (K/C)^(1/alpha) (paper eq. 11), clipped to +-700
     (C = 0: a rigid dashpot, K = 0: no spring)."""
-    ln_ratio = vlog(max(K, 1e-300)) - vlog(max(C, 1e-300))
-    return min(max(ln_ratio / alpha, -700.0), 700.0)
+    ln_ratio = vlog(fmax(K, 1e-300)) - vlog(fmax(C, 1e-300))
+    return fmin(fmax(ln_ratio / alpha, -700.0), 700.0)
 
 
 @scalar

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from .fastmath import COARSE_LOG_ERROR, LN2_HI, coarse_log, horner, scalar, vexp, vlog
+from .fastmath import COARSE_LOG_ERROR, LN2_HI, coarse_log, fmax, fmin, horner, scalar, vexp, vlog
 from .steps import maxwell_log_rate
 
 # --- law 7: Lu visco-elastic spring deformation, TR-BDF2 ------------------
@@ -41,7 +41,7 @@ def law7_constants(C, alpha, K, beta, h):
     beta), c = gamma h q/2, p = beta/alpha."""
     p = beta / alpha
     return (math.log(0.5 * TRBDF2_GAMMA * h) + maxwell_log_rate(C, alpha, K), p, 1.0 / p,
-            vlog(max(K, 1e-300)), beta)
+            vlog(fmax(K, 1e-300)), beta)
 
 
 @scalar
@@ -58,7 +58,7 @@ def maxwell_bdf2_rhs(z_gamma, z, v1, h):
     """Right side r of the BDF2 stage: (z_gamma - (1-gamma)^2 z)/(gamma (2-gamma))
     + (gamma h/2) v1, v1 the velocity at the end of the step [mm/s]."""
     g = TRBDF2_GAMMA
-    return (z_gamma - (1.0 - g) ** 2 * z) / (g * (2.0 - g)) + 0.5 * g * h * v1
+    return (z_gamma - (1.0 - g) * (1.0 - g) * z) / (g * (2.0 - g)) + 0.5 * g * h * v1
 
 
 @scalar
@@ -71,15 +71,15 @@ def maxwell_start(r, R_prev, lam, lam1, lam2, ln_r_prev, ln_c, inv_p):
     t = (R - R_prev)/(R + R_prev), by its series to t^7 where |t| < 0.1 (error
     < 3e-10), else the difference of coarse logs (the bracket then decides).
     Returns (lam0, coarse ln R, R); R is floored at R_MIN."""
-    R = max(abs(r), R_MIN)
+    R = fmax(abs(r), R_MIN)
     ln_r = coarse_log(R)
     t = (R - R_prev) / (R + R_prev)
     near = abs(t) < 0.1
     tn = t if near else 0.0
     dl = 2.0 * tn * horner(tn * tn, (1.0 / 7.0, 0.2, 1.0 / 3.0, 1.0)) if near else ln_r - ln_r_prev
-    upper = min(ln_r, (ln_r - ln_c) * inv_p) + COARSE_LOG_ERROR
-    lower = min(ln_r - LN2_HI, (ln_r - LN2_HI - ln_c) * inv_p) - COARSE_LOG_ERROR
-    return max(min(max(lam + dl * (lam1 + lam2 * dl), lower), upper), LAM_MIN), ln_r, R
+    upper = fmin(ln_r, (ln_r - ln_c) * inv_p) + COARSE_LOG_ERROR
+    lower = fmin(ln_r - LN2_HI, (ln_r - LN2_HI - ln_c) * inv_p) - COARSE_LOG_ERROR
+    return fmax(fmin(fmax(lam + dl * (lam1 + lam2 * dl), lower), upper), LAM_MIN), ln_r, R
 
 
 @scalar
@@ -99,9 +99,9 @@ def maxwell_newton(lam, R, ln_c, p):
     den = (s + R) * g1
     # at rest (|r| ~ 1e-304) the terms underflow: the root is 0 to machine precision; stay, slopes 0
     inv = 1.0 / den if den > DEN_MIN else 0.0
-    new = max(lam - 2.0 * s * (s - R) * inv, LAM_MIN)
+    new = fmax(lam - 2.0 * s * (s - R) * inv, LAM_MIN)
     d = abs(new - lam)
-    converged = e1 * e2 * (p - 1.0) ** 2 * d * d <= (2.0 * NEWTON_TOL - d * d * d / 6.0) * s * g1
+    converged = e1 * e2 * ((p - 1.0) * (p - 1.0)) * d * d <= (2.0 * NEWTON_TOL - d * d * d / 6.0) * s * g1
     return new, e1, e2, (s + R) * inv, converged
 
 
@@ -115,7 +115,7 @@ def maxwell_end(r, e1, e2, inv_g1, dlam, p):
     lam1 = s * inv_g1
     # as three bounded ratios (e1/g1, e2/g1, S/g1): a root near 0 (a solve of r = 0, at rest)
     # makes g1 ~ 1e-300, where inv_g1 cubed alone would overflow and give lam2 = NaN
-    lam2 = -0.5 * (e1 * inv_g1) * (e2 * inv_g1) * (p - 1.0) ** 2 * (s * inv_g1)
+    lam2 = -0.5 * (e1 * inv_g1) * (e2 * inv_g1) * ((p - 1.0) * (p - 1.0)) * (s * inv_g1)
     return math.copysign(e1 * (1.0 + dlam * (1.0 + 0.5 * dlam)), r), lam1, lam2
 
 
@@ -124,9 +124,9 @@ def maxwell_solve(r, ln_c, p):
     """Root x of x + c sign(x)|x|^p = r without a previous solve to start from
     (scalar code): Newton (``maxwell_newton``) from the upper end of the
     bracket, where the iterates approach the root from one side."""
-    R = max(abs(r), R_MIN)
+    R = fmax(abs(r), R_MIN)
     ln_r = vlog(R)
-    lam = max(min(ln_r, (ln_r - ln_c) / p), LAM_MIN)
+    lam = fmax(fmin(ln_r, (ln_r - ln_c) / p), LAM_MIN)
     e1, e2, inv_g1, dlam = 0.0, 0.0, 1.0, 0.0
     for _ in range(NEWTON_MAXIT):
         new, e1, e2, inv_g1, done = maxwell_newton(lam, R, ln_c, p)
