@@ -176,7 +176,8 @@ class Diagnosis:
         c = self.best if effect is None else self.candidate(effect)
         settings = {"source": "diagnose", "seed": self.inputs.seed, "optimizer": DEFAULT_OPTIMIZER}
         warnings = [] if c.significant else [f"{c.effect} was not credited by diagnose: {c.reason}"]
-        return recommended(c.model, c.fit, self.inputs.record, settings, zero=self.zero is not None,
+        fit = c.zero_fit if self.zero is not None and c.zero_fit is not None else c.fit
+        return recommended(c.model, fit, self.inputs.record, settings, zero=self.zero is not None,
                            per_test=self.per_test, seed=self.inputs.seed, replicates=intervals, warnings=warnings)
 
     def ladder(self, max_rungs: int | None = None, progress=None):
@@ -370,11 +371,12 @@ def recommended(model, fit, record, settings: dict, *, zero: bool, per_test=(), 
                 replicates: int = REPLICATES, warnings=()):
     """The Calibration diagnose recommends of ``model``'s ``fit`` on
     ``record``: refitted beside the tests' force zero when ``zero`` (the
-    diagnosis fitted it: ``zero.beside``), with calibrate's bootstrap
-    intervals (``replicates``, seeded as calibrate's; 0: none)."""
+    diagnosis fitted it: ``zero.beside``; a fit that carries its zero,
+    ``FitResult.zero``, was refitted there already), with calibrate's
+    bootstrap intervals (``replicates``, seeded as calibrate's; 0: none)."""
     from ..calibration import Calibration
 
-    if zero:
+    if zero and fit.zero is None:
         fit = zero_mod.beside(model, fit, record, per_test)
     iv = (bootstrap(model, record, fit.params, per_test=agree.free(model, per_test), bounds=fit.bounds,
                     replicates=replicates, seed=[seed, 7],

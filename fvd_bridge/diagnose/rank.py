@@ -102,6 +102,7 @@ class Candidate:
     size: sizes.Size | None = None
     held_out: dict | None = None
     on_cap: list = field(default_factory=list)  # the effect's parameters that ended on their plausibility cap
+    zero_fit: object = None  # the refit beside the tests' force zero, when zero.check judged it there
 
     @property
     def spec(self) -> str:

@@ -28,7 +28,8 @@ is never told apart from the zero: the rests pin zero plus preload, and
 only what grows with d (a stiffness) or what the rests do not hold (a
 force the motion shows and the rests do not read) counts.  When the zero
 was fitted, every calibration the diagnosis recommends is fitted beside
-it (``beside``): the effects it credits are credited beyond it.
+it (``beside``; a candidate judged here, from its fit beside the zero,
+``Candidate.zero_fit``): the effects it credits are credited beyond it.
 """
 
 from __future__ import annotations
@@ -85,16 +86,18 @@ def beside(model, fit, record, per_test=()):
     """A FitResult ``fit`` of ``model`` refitted beside the tests' force zero
     (``solve`` from it, within its widened bounds): its parameters, OF, each
     test's OF and the zero (``FitResult.zero``)."""
+    return as_fit(model, fit, record, per_test, solve(model, fit.params, record, per_test, dict(fit.widened or {})))
+
+
+def as_fit(model, fit, record, per_test, solved: ZeroFit):
+    """``fit`` (a FitResult of ``model``) as ``solved`` (``solve`` from it)
+    left it: its parameters, OF, each test's OF and the zero
+    (``FitResult.zero``)."""
     device = as_device(record)
-    pt = free(model, per_test)
-    P, of = polish_model(model, device, fit.params, per_test=pt, overrides=dict(fit.widened or {}),
-                         force_zero=True)
-    layout = Layout(model, tuple(device.test_names), pt, True)
-    weights = residual_weights(device)
-    test_of = [evaluate_params(model, t, layout.for_test(P[None, :], k)[0], force_zero=True)
+    layout = Layout(model, tuple(device.test_names), free(model, per_test), True)
+    test_of = [evaluate_params(model, t, layout.for_test(solved.params[None, :], k)[0], force_zero=True)
                for k, t in enumerate(device.tests)]
-    return replace(fit, params=P, of=float(of), test_of=test_of,
-                   zero=zero_values(model, device, layout, P, weights))
+    return replace(fit, params=solved.params, of=solved.of, test_of=test_of, zero=solved.values)
 
 
 @dataclass
@@ -183,6 +186,7 @@ def check(model, base_fit, record, candidates, judge, per_test=(), progress=None
         progress(f"  the tests' force zero     OF {zero.of:.5g} ({(zero.of - base_fit.of) / base_fit.of:+.1%})")
     for c in judged:
         with_effect = solve(c.model, c.fit.params, device, per_test, {**overrides, **dict(c.fit.widened or {})})
+        c.zero_fit = as_fit(c.model, c.fit, device, per_test, with_effect)  # what a calibration of it is written from
         of_c = min(with_effect.of, zero.of)  # the effect switched off gives the base's zero fit
         ok, why, _, _ = judge.verdict(zero.of, of_c, len(c.model.parameters) - len(model.parameters),
                                       with_effect.residual)

@@ -188,12 +188,22 @@ def line_search(evaluate, x: np.ndarray, f: float, j: int, count: Evaluations, l
     points, one batch, on a span around the best so far, from ``span`` of
     the range [lower, upper] (the unit cube's; 1: the whole range)
     shrinking LINE_SHRINK-fold to LINE_END of it (a best on the span's edge
-    keeps the span: the search walks on); the others held."""
+    keeps the span: the search walks on); the others held.  A point of the
+    line met before (the best so far, a point of the wider span, the
+    bounds where the span is clipped: about a third of them) keeps the OF
+    it had: only new points are evaluated."""
+    known = {float(x[j]): f}  # the OF of each point of this line evaluated so far, by coordinate j
     while span >= LINE_END:
         X = np.repeat(x[None, :], LINE_POINTS, axis=0)
         X[:, j] = np.clip(x[j] + span * (upper - lower) * np.linspace(-1.0, 1.0, LINE_POINTS), lower, upper)
-        of = evaluate(X)
-        count.add(LINE_POINTS)
+        line = X[:, j].tolist()
+        new = [v for v in dict.fromkeys(line) if v not in known]
+        if new:
+            rows = np.repeat(x[None, :], len(new), axis=0)
+            rows[:, j] = new
+            known.update(zip(new, evaluate(rows).tolist()))
+            count.add(len(new))
+        of = np.array([known[v] for v in line])
         i = int(np.argmin(of))
         if of[i] < f:
             x, f = X[i], float(of[i])
