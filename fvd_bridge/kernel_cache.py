@@ -8,6 +8,11 @@ folder, ``NUMBA_CACHE_DIR`` if the user set it, else the user's cache
 folder (``$XDG_CACHE_HOME/fvd_bridge/numba``, ``~/.cache/...``), before any
 kernel is compiled; ``cold`` says whether nothing is cached there yet, so
 the command line can say why its first run is slow.
+
+Each kernel compiles once per environment: ``kernel_array`` gives a kernel
+the one array type it is compiled for (a read-only array would compile it
+again), and numba's index updates are locked across processes
+(``_lock_index_updates``), so that one process's entry survives another's.
 """
 
 from __future__ import annotations
@@ -99,7 +104,7 @@ def cold() -> bool:
     return not (path.is_dir() and any(path.rglob(MARKER)))
 
 
-NOTICE = "compiling the numerical kernels (after an install or an update, once: 1-3 minutes; cached in {})"
+NOTICE = "compiling the numerical kernels (after an install or an update, once: about a minute; cached in {})"
 
 
 def announce(say):
