@@ -115,3 +115,54 @@ def test_diagnose_after_calibrate_compiles_nothing_again(tmp_path, models):
     assert diag.returncode == 0, diag.stderr
     assert "compiling" not in diag.stderr, diag.stderr
     assert _cache_files(tmp_path / "numba") == compiled
+
+
+CONCURRENT_SAVE = '''
+import pathlib, sys, time
+import fvd_bridge  # noqa: F401 (locks numba's index updates)
+from numba.core.caching import IndexDataCacheFile
+
+load = IndexDataCacheFile._load_index
+
+
+def slow_load(self):  # widen the window between reading the index and writing it back
+    overloads = load(self)
+    time.sleep(0.5)
+    return overloads
+
+
+IndexDataCacheFile._load_index = slow_load
+here = pathlib.Path(sys.argv[1])
+sys.path.insert(0, str(here))
+import kernel
+
+(here / f"ready{sys.argv[2]}").touch()
+while not (here / "go").exists():
+    time.sleep(0.01)
+kernel.twice([1, 2.0, 3j][int(sys.argv[2])])
+'''
+
+
+def test_processes_that_compile_one_kernel_at_once_keep_each_others_entries(tmp_path):
+    """Three processes save three specializations of one kernel into its
+    cache index at the same time (each slowed between reading the index and
+    writing it back): every entry survives, each under its own data file."""
+    import pickle
+    import time
+
+    (tmp_path / "kernel.py").write_text("from numba import njit\n\n\n@njit(cache=True)\ndef twice(x):\n"
+                                        "    return 2 * x\n")
+    (tmp_path / "save.py").write_text(CONCURRENT_SAVE)
+    env = dict(cli_env(), NUMBA_CACHE_DIR=str(tmp_path / "numba"))
+    procs = [subprocess.Popen([sys.executable, str(tmp_path / "save.py"), str(tmp_path), str(k)], env=env,
+                              stderr=subprocess.PIPE, text=True) for k in range(3)]
+    while not all((tmp_path / f"ready{k}").exists() for k in range(3)):
+        assert all(p.poll() is None for p in procs), [p.communicate()[1] for p in procs]
+        time.sleep(0.05)
+    (tmp_path / "go").touch()
+    assert all(p.wait() == 0 for p in procs), [p.communicate()[1] for p in procs]
+    (index,) = (tmp_path / "numba").rglob("kernel.twice-*.nbi")
+    with open(index, "rb") as f:
+        pickle.load(f)  # numba's version
+        _, overloads = pickle.loads(f.read())
+    assert len(overloads) == 3 and len(set(overloads.values())) == 3
