@@ -50,7 +50,7 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 # alone, one SIMD register wide).
 LANES_32, LANES_16, LANES_4 = (0.0,) * 32, (0.0,) * 16, (0.0,) * 4
 NARROW_UPTO = 12
-#: a law's kernel: (d, v, dt, c, substeps, lanes, b0, b1) -> F of the blocks b0..b1-1
+#: a law's kernel: (d, v, dt, c, substeps, lanes, b0, F) writes F, the rows of the blocks from b0 on
 block_kernel = njit(cache=True, nogil=True, fastmath=FASTMATH, error_model="numpy")
 
 # Rows of a block's work array (one value per member): the state, the
@@ -66,24 +66,27 @@ MAXWELL_PARS = 19  # law 7: first parameter row (C, alpha, K, beta)
 
 
 def _run(kernel, wide, d, v, dt, substeps, *columns):
-    """kernel(d, v, dt, c, substeps, lanes, b0, b1) on the table c (n_par, n)
+    """kernel(d, v, dt, c, substeps, lanes, b0, F) on the table c (n_par, n)
     of the members' parameter columns, n padded to whole blocks (up to
     NARROW_UPTO members in blocks of 4, more in blocks of len(wide)) by
-    repeating the last member, the blocks split over numba's threads (a
-    population of narrow blocks runs on one: a thread's start costs more);
-    returns F (pop, n_t) [kN]."""
+    repeating the last member, the blocks split over numba's threads, each
+    part writing its rows of F (a population of narrow blocks runs on one
+    thread: a thread's start costs more); returns F (pop, n_t) [kN]."""
     table = np.vstack(np.broadcast_arrays(*[np.asarray(col, dtype=float) for col in columns]))
     pop = table.shape[1]
     lanes = LANES_4 if pop <= NARROW_UPTO else wide
     pad = np.repeat(table[:, -1:], -pop % len(lanes), axis=1)
     c = np.ascontiguousarray(np.concatenate([table, pad], axis=1))
+    F = np.empty((c.shape[1], d.size))
     n_blocks = c.shape[1] // len(lanes)
     parts = min(numba.get_num_threads(), n_blocks) if lanes is wide else 1
-    ends = [n_blocks * k // parts for k in range(parts + 1)]
-    others = [_threads().submit(kernel, d, v, dt, c, substeps, lanes, b0, b1)
-              for b0, b1 in zip(ends[1:-1], ends[2:])]
-    F = [kernel(d, v, dt, c, substeps, lanes, 0, ends[1])] + [run.result() for run in others]
-    return (F[0] if parts == 1 else np.vstack(F))[:pop]
+    rows = [n_blocks * k // parts * len(lanes) for k in range(parts + 1)]
+    others = [_threads().submit(kernel, d, v, dt, c, substeps, lanes, r0 // len(lanes), F[r0:r1])
+              for r0, r1 in zip(rows[1:-1], rows[2:])]
+    kernel(d, v, dt, c, substeps, lanes, 0, F[:rows[1]])
+    for run in others:
+        run.result()
+    return F[:pop]
 
 
 @cache
@@ -121,16 +124,15 @@ def _sub_velocities(v0, v1, j, m):
 # --- laws 6, 8, 9: rate-independent, exact for v linear between samples -----
 
 @njit(inline="always")
-def _travel_force(d, v, dt, c, substeps, lanes, b0, b1, setup, advance):
-    """F = a d + b z + C v [kN] (``steps.linear_force``) of the blocks b0..b1-1,
+def _travel_force(d, v, dt, c, substeps, lanes, b0, F, setup, advance):
+    """F = a d + b z + C v [kN] (``steps.linear_force``) of the blocks from b0 on (F's rows),
     the constants set by ``setup(s)`` from the parameters, z from 0 moved by
     ``advance(s, u)`` over each travel u of one sign (a step's travel is
     split where v changes sign).  Inlined into each law's kernel, which fixes
     ``setup`` and ``advance`` (function arguments would defeat numba's cache)."""
     n = d.size
-    F = np.empty(((b1 - b0) * len(lanes), n))
     h = dt / substeps
-    for block in range(b0, b1):
+    for block in range(b0, b0 + F.shape[0] // len(lanes)):
         s = _work(c, block * len(lanes), TRAVEL_PARS, lanes)
         setup(s)
         for k in range(n):
@@ -142,7 +144,6 @@ def _travel_force(d, v, dt, c, substeps, lanes, b0, b1, setup, advance):
             for lane in range(s.shape[1]):
                 s[FORCE, lane] = linear_force(s[A_D, lane], s[B_Z, lane], s[C_V, lane], d[k], s[Z, lane], v[k])
             _store(F, k, s, (block - b0) * len(lanes))
-    return F
 
 
 @scalar
@@ -162,8 +163,8 @@ def _bouc_wen_advance(s, u):
 
 
 @block_kernel
-def _bouc_wen_force(d, v, dt, c, substeps, lanes, b0, b1):
-    return _travel_force(d, v, dt, c, substeps, lanes, b0, b1, _bouc_wen_setup, _bouc_wen_advance)
+def _bouc_wen_force(d, v, dt, c, substeps, lanes, b0, F):
+    _travel_force(d, v, dt, c, substeps, lanes, b0, F, _bouc_wen_setup, _bouc_wen_advance)
 
 
 def bouc_wen_force(d, v, dt, *, C, K, alpha, A, beta, gamma, substeps=1):
@@ -196,8 +197,8 @@ def _slip_advance(s, u):
 
 
 @block_kernel
-def _slip_force(d, v, dt, c, substeps, lanes, b0, b1):
-    return _travel_force(d, v, dt, c, substeps, lanes, b0, b1, _slip_setup, _slip_advance)
+def _slip_force(d, v, dt, c, substeps, lanes, b0, F):
+    _travel_force(d, v, dt, c, substeps, lanes, b0, F, _slip_setup, _slip_advance)
 
 
 def law8(d, v, dt, P, substeps=1):
@@ -221,8 +222,8 @@ def _lugre_advance(s, u):
 
 
 @block_kernel
-def _lugre_force(d, v, dt, c, substeps, lanes, b0, b1):
-    return _travel_force(d, v, dt, c, substeps, lanes, b0, b1, _lugre_setup, _lugre_advance)
+def _lugre_force(d, v, dt, c, substeps, lanes, b0, F):
+    _travel_force(d, v, dt, c, substeps, lanes, b0, F, _lugre_setup, _lugre_advance)
 
 
 def law9(d, v, dt, P, substeps=1):
@@ -272,9 +273,9 @@ def _maxwell_end(s, lane):
 
 
 @block_kernel
-def _maxwell_force(d, v, dt, c, substeps, lanes, b0, b1):
-    """Law 7 for the blocks b0..b1-1 of the parameter table c (rows C, alpha,
-    K, beta): F ((b1 - b0) len(lanes), n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K,
+def _maxwell_force(d, v, dt, c, substeps, lanes, b0, F):
+    """Law 7 for the blocks from b0 on of the parameter table c (rows C,
+    alpha, K, beta), into F (their rows, n_t) [kN].  Constants (``steps.law7_constants``): ln c, p, 1/p, ln K,
     beta.  State rows: z, c phi(z) = r - z, and of the last solve its right
     side r, |r|, a coarse ln|r|, ln|x|, the slopes of ln|x|(ln|r|) and the
     last Newton evaluation (e1, e2, 1/(e1 + p e2), step, converged).  Each solve step appears
@@ -283,9 +284,8 @@ def _maxwell_force(d, v, dt, c, substeps, lanes, b0, b1):
     ``_maxwell_newton``): numba inlines each appearance anew, and its compile
     time grows with them."""
     n = d.size
-    F = np.empty(((b1 - b0) * len(lanes), n))
     h = dt / substeps
-    for block in range(b0, b1):
+    for block in range(b0, b0 + F.shape[0] // len(lanes)):
         s = _work(c, block * len(lanes), MAXWELL_PARS, lanes)
         q = MAXWELL_PARS
         for lane in range(s.shape[1]):
@@ -308,7 +308,6 @@ def _maxwell_force(d, v, dt, c, substeps, lanes, b0, b1):
             for lane in range(s.shape[1]):  # z has the sign of r and ln|z| = lam
                 s[FORCE, lane] = maxwell_force(s[RHS, lane], s[LAM, lane], s[LN_K, lane], s[BETA, lane])
             _store(F, k, s, (block - b0) * len(lanes))
-    return F
 
 
 def law7(d, v, dt, P, substeps=1):
