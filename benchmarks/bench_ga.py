@@ -22,7 +22,10 @@ The two are timed in turn, ``--rounds`` times (peer, GA, peer, GA, ...),
 each round about as long for both, and the ratio is taken round by round
 (its median is the figure): a machine whose speed drifts slows both.  The peer's
 OF is checked against the project's on a few members (an independent
-algorithm: they agree to rounding).
+algorithm: they agree to rounding).  Last, what a GA generation costs
+around the kernel: its operators alone (with an objective that costs
+nothing) and eq. 18 on a generation's new children beyond the kernel's own
+time (best of many; ``NUMBA_NUM_THREADS=1`` times the two on one thread).
 
     python benchmarks/bench_ga.py [--rounds 21] [--runs 2]
 """
@@ -39,7 +42,11 @@ from numba import njit, prange
 
 from fvd_bridge.catalog import parse_model
 from fvd_bridge.fit import evaluate_params, fit_model
+from fvd_bridge.fit.api import joint_objective, residual_weights
+from fvd_bridge.fit.ga import GASettings, run_ga
+from fvd_bridge.fit.layout import Layout
 from fvd_bridge.fit.space import Space
+from fvd_bridge.records.device import as_device
 from fvd_bridge.rig import DEMO_NOISE, Noise, demo_series, paper, simulate
 
 POP = 200  # the paper's population (Table 3)
@@ -108,6 +115,40 @@ def timed_ga(model, rec, seeds) -> tuple[float, float, list]:
     return evals / wall, members / wall, fits
 
 
+def best_us(run, repeats: int = 200) -> float:
+    """The shortest of ``repeats`` calls of ``run()`` [us]."""
+    walls = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        run()
+        walls.append(time.perf_counter() - t0)
+    return 1e6 * min(walls)
+
+
+def generation_costs(model, rec, space, children: int) -> str:
+    """A generation's costs around the kernel: the GA's operators (selection,
+    crossover, mutation, the repeated children's reuse) with an objective
+    that costs nothing, and eq. 18 on ``children`` new members through
+    fit_model's path (unit cube to parameters, the forces, the weighted
+    residuals' sum) less the kernel's own time."""
+    def free(X):
+        return ((X - 0.3) ** 2).sum(axis=1) + 0.01
+
+    gens = 60
+    t0 = time.perf_counter()
+    for seed in range(20):
+        run_ga(free, space.n, np.random.default_rng(seed), GASettings(gens=gens, stall=gens))
+    operators = 1e6 * (time.perf_counter() - t0) / (20 * (gens - 1))
+    device = as_device(rec)
+    layout, weights = Layout(model, tuple(device.test_names)), residual_weights(device)
+    X = np.random.default_rng(2).random((children, space.n))
+    P = space.to_params(X)
+    kernel = best_us(lambda: model.force(rec, P))
+    whole = best_us(lambda: joint_objective(model, device, layout, space.to_params(X), weights=weights))
+    return (f"a generation around the kernel: the operators {operators:.0f} us; eq. 18 on {children} new children "
+            f"{whole - kernel:.0f} us beyond the kernel's {kernel:.0f} us (best of 200)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--rounds", type=int, default=21, help="peer and GA timed in turn this many times")
@@ -142,8 +183,10 @@ def main() -> None:
           f"({np.median(member_rates):,.0f} members/s counting the children it reuses); "
           f"peer / GA {ratio:.2f} round by round (target <= 2)")
     of = np.array([f.of for f in fits])
+    children = int(round(np.median([(f.evaluations - POP) / max(len(f.history) - 1, 1) for f in fits])))
     print(f"the GA's {len(fits)} runs (seeds 0-{len(fits) - 1}): OF median {np.median(of):.5f}, best {of.min():.5f}; "
-          f"{sum(f.evaluations for f in fits):,} evaluations")
+          f"{sum(f.evaluations for f in fits):,} evaluations, {children} new children a generation (median)")
+    print(generation_costs(model, rec, space, children))
 
 
 if __name__ == "__main__":
