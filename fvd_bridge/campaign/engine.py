@@ -7,6 +7,8 @@ they give the same numbers by construction."""
 from __future__ import annotations
 
 from .. import timing
+from ..laws.catalog import compile_kernel, kernel_tasks
+from .executors import Processes
 from .runner import CampaignSettings, book_fit_times, run_campaign, run_intervals
 
 
@@ -16,7 +18,13 @@ def run_calibrations(records, cs: CampaignSettings, executor=None, progress: boo
     (``run_campaign``: {(device, spec): FittedRuns}) and the best run's
     intervals (``run_intervals``: {(device, spec): Intervals}).
     ``fits_executor``: runs the fits instead of ``executor`` and shows its
-    own progress (a campaign's ``Resumable``: fits read back from its store)."""
+    own progress (a campaign's ``Resumable``: fits read back from its store).
+    A local process pool first compiles (or loads) the laws' kernels side
+    by side in its workers (``laws.catalog.kernel_tasks``), not each worker all of them."""
+    if isinstance(executor, Processes):
+        with timing.stage("kernels (compiled or loaded, side by side in the workers)"):
+            for _ in executor.run(compile_kernel, kernel_tasks(sorted({cs.model(s).law.key for s in cs.specs}))):
+                pass
     with timing.stage("fits"):
         results = run_campaign(records, cs, progress and fits_executor is None, fits_executor or executor)
     book_fit_times(results)

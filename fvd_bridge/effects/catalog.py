@@ -16,6 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..kernel_cache import kernel_array
 from ..laws.base import OpenSeesForm, Parameter
 from . import connection, sizes, steps
 from .base import Effect
@@ -35,7 +36,7 @@ def _col(P, j):
 
 
 def _rows(x):
-    return np.ascontiguousarray(np.atleast_2d(x), dtype=float)
+    return kernel_array(np.atleast_2d(x))
 
 
 # ------------------------------------------------------------------ series
@@ -69,10 +70,10 @@ def connection_force(law_number, PL, x, xv, xa, dt, slots: dict, substeps=1):
     heating [kN] and its displacement [mm], each (pop, n_t).  A closed gap
     (g <= 0) or a rigid spring (Ks >= KS_RIGID) is handled by the
     composition: the model without it."""
-    c = np.ascontiguousarray
+    c = kernel_array  # writable, contiguous float64: one compiled signature (kernel_cache)
     table = c(np.column_stack([np.asarray(slots[slot], dtype=float) for slot in connection.SLOTS]))
-    return connection.series_population(int(law_number), c(x, dtype=float), c(xv, dtype=float),
-                                        c(xa, dtype=float), float(dt), c(PL, dtype=float), table, int(substeps))
+    return connection.series_population(int(law_number), c(x), c(xv), c(xa), float(dt), c(PL), table,
+                                        int(substeps))
 
 
 def _gap_closed(values):
@@ -99,8 +100,7 @@ def thermal_force(P, F, x, xv, dt):
     times its velocity xv [mm/s]; 1 kN mm = 1 J).  Computed in the closed
     form exp(theta E) = 1 + theta W0, W0 = 1e-6 integral F xv dt with the
     unsoftened F (steps.thermal_population, trapezoidal rule)."""
-    return steps.thermal_population(np.ascontiguousarray(F, dtype=float), _rows(xv), float(dt),
-                                      np.ascontiguousarray(P[:, 0], dtype=float))
+    return steps.thermal_population(kernel_array(F), _rows(xv), float(dt), kernel_array(P[:, 0]))
 
 
 # ---------------------------------------------------------------- parallel

@@ -89,19 +89,16 @@ def _cache_files(cache):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("models", [
-    "2+series_stiffness,2+thermal_softening",
-    pytest.param("2+series_stiffness,2+asymmetry+thermal_softening", marks=pytest.mark.xfail(
-        strict=True, reason="effects/catalog.py hands thermal_population the read-only view of the asymmetry's "
-                            "output, and a writable array without it: two compiled types of one kernel (issue 42; "
-                            "the fix: kernel_cache.kernel_array in catalog.thermal_force and connection_force)"))])
+@pytest.mark.parametrize("models", ["2+series_stiffness,2+thermal_softening",
+                                    "2+series_stiffness,2+asymmetry+thermal_softening"])
 def test_diagnose_after_calibrate_compiles_nothing_again(tmp_path, models):
     """After a calibration that ran a law, its connection and its heating, a
     diagnosis of the same law on another record of the same kind (its
     candidates: the same kernels) compiles nothing: no notice, and numba's
     cache files (index and compiled code) are the calibration's, unchanged.
-    The heating behind the asymmetry hands its kernel a read-only array, the
-    heating alone a writable one."""
+    The heating behind the asymmetry gets a read-only view of its output,
+    the heating alone a writable array: the kernel is handed one type
+    (``kernel_cache.kernel_array``) either way."""
     env = dict(cli_env(), NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     run = lambda *args: subprocess.run([*CLI, *args], env=env, capture_output=True, text=True, cwd=tmp_path)
     rig = run("rig", "--out", "lab", "--devices", "2", "--C", "45", "--alpha", "0.3", "--Ks", "150",
