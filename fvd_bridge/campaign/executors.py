@@ -20,14 +20,10 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from ..errors import InputError, speak, words
 from ..calibration.news import install as install_news
+from ..calibration.runs import InProcess
 
-
-class Serial:
-    """Run every item here, in order."""
-
-    def run(self, fn, items):
-        for item in items:
-            yield item, fn(*item)
+#: run every item here, in order (one calibration's executor, under the campaign's name)
+Serial = InProcess
 
 
 def _stop_worker(signum, frame):
