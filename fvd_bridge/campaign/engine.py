@@ -12,6 +12,16 @@ from .executors import Processes
 from .runner import CampaignSettings, book_fit_times, run_campaign, run_intervals
 
 
+def warm_kernels(executor, cs: CampaignSettings) -> None:
+    """In a local process pool: compile (or load) the laws' kernels of
+    ``cs``'s models side by side in its workers (``laws.catalog.kernel_tasks``),
+    not each worker all of them; any other executor: nothing."""
+    if isinstance(executor, Processes):
+        with timing.stage("kernels (compiled or loaded, side by side in the workers)"):
+            for _ in executor.run(compile_kernel, kernel_tasks(sorted({cs.model(s).law.key for s in cs.specs}))):
+                pass
+
+
 def run_calibrations(records, cs: CampaignSettings, executor=None, progress: bool = True,
                      fits_executor=None) -> tuple[dict, dict]:
     """(runs, intervals) of every (device, model) of ``cs``: the runs
@@ -21,10 +31,7 @@ def run_calibrations(records, cs: CampaignSettings, executor=None, progress: boo
     own progress (a campaign's ``Resumable``: fits read back from its store).
     A local process pool first compiles (or loads) the laws' kernels side
     by side in its workers (``laws.catalog.kernel_tasks``), not each worker all of them."""
-    if isinstance(executor, Processes):
-        with timing.stage("kernels (compiled or loaded, side by side in the workers)"):
-            for _ in executor.run(compile_kernel, kernel_tasks(sorted({cs.model(s).law.key for s in cs.specs}))):
-                pass
+    warm_kernels(executor, cs)
     with timing.stage("fits"):
         results = run_campaign(records, cs, progress and fits_executor is None, fits_executor or executor)
     book_fit_times(results)

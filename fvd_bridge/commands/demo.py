@@ -20,6 +20,7 @@ import sys
 import time
 
 from .. import timing
+from ..campaign.engine import warm_kernels
 from ..campaign.executors import Processes
 from ..campaign.outputs import write_outputs
 from ..text.campaign import format_report
@@ -27,7 +28,6 @@ from ..campaign.runner import CampaignSettings, book_fit_times, run_campaign
 from ..fit import DEFAULT_OPTIMIZER, OPTIMIZERS
 from ..io.staging import check_output, removed_on_failure
 from ..laws import PAPER_LAWS
-from ..laws.catalog import compile_kernel, kernel_tasks
 from ..records import read_record
 from ..rig import DEMO_NOISE, Noise, demo_series, paper, write_series
 
@@ -79,9 +79,7 @@ def _run(args) -> int:
           f"{rec_dir}/; {len(cs.specs)} laws x {len(records)} devices x {cs.runs} runs, optimizer {cs.optimizer}, {mode}",
           file=sys.stderr)
     with Processes(cs.jobs) as executor:  # one pool for the kernels, the fits and the figures
-        with timing.stage("kernels (compiled or loaded, side by side in the workers)"):
-            for _ in executor.run(compile_kernel, kernel_tasks(cs.specs)):
-                pass
+        warm_kernels(executor, cs)
         with timing.stage("fits"):
             results = run_campaign(records, cs, executor=executor)
         book_fit_times(results)
