@@ -14,7 +14,6 @@ is one Gram product.  ``tests/fit/test_trf.py`` holds it to scipy's iterates.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import cho_factor, solve_triangular
 from scipy.optimize._lsq.common import (CL_scaling_vector, check_termination, compute_jac_scale,
                                         make_strictly_feasible, solve_lsq_trust_region, update_tr_radius)
 from scipy.optimize._lsq.trf import select_step
@@ -46,19 +45,19 @@ def normal_form(r: np.ndarray, J: np.ndarray, f_scale: float):
     t = 1.0 + (r / f_scale) ** 2
     st = np.sqrt(t)
     w = np.sqrt(np.minimum(t * st, 1.0 / EPS))  # 1 / sqrt(rho' + 2 rho'' r^2), at most EPS^-1/2 (scipy's clamp)
-    Js = J / w[:, None]
+    JsT = np.ascontiguousarray(J.T) / w  # J_s^T (n, m): one row per parameter
     fs = r * w / st
-    norms = np.sqrt(np.einsum("ij,ij->j", Js, Js))
+    G = JsT @ JsT.T
+    norms = np.sqrt(np.diag(G))
     norms[norms == 0.0] = 1.0
-    G = (Js.T @ Js) / np.outer(norms, norms)  # the equilibrated Gram matrix: unit diagonal
     try:
-        U, _ = cho_factor(G, lower=False, check_finite=False)
-        U = np.triu(U)
+        U = np.linalg.cholesky(G / np.outer(norms, norms)).T  # of the equilibrated Gram matrix (unit diagonal)
         if np.min(np.abs(np.diag(U))) > GRAM_PIVOT:
             R = U * norms[None, :]
-            return R, solve_triangular(R, Js.T @ fs, trans="T", check_finite=False)
+            return R, np.linalg.solve(R.T, JsT @ fs)
     except np.linalg.LinAlgError:
         pass
+    Js = JsT.T
     Raug = np.linalg.qr(np.column_stack([Js, fs]), mode="r")
     return Raug[:-1, :-1], Raug[:-1, -1]
 
