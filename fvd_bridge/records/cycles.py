@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 
 def dominant_period(d: np.ndarray, dt: float) -> float:
@@ -21,7 +22,14 @@ def dominant_period(d: np.ndarray, dt: float) -> float:
 def reversals(d: np.ndarray, hysteresis: float | None = None) -> np.ndarray:
     """Indices where the displacement reverses, ignoring wiggles below ``hysteresis`` [mm]."""
     h = 0.02 * float(np.ptp(d)) if hysteresis is None else hysteresis
-    idx, direction, ext = [], 0, 0
+    return _reversals(np.ascontiguousarray(d, dtype=np.float64), float(h))
+
+
+@njit(cache=True)
+def _reversals(d, h):
+    """``reversals``, sample by sample: each extreme d moves away from by more than h."""
+    idx = np.empty(d.size, np.int64)
+    count, direction, ext = 0, 0, 0
     for i in range(1, d.size):
         if direction == 0:
             if abs(d[i] - d[0]) > h:
@@ -29,9 +37,10 @@ def reversals(d: np.ndarray, hysteresis: float | None = None) -> np.ndarray:
         elif direction * (d[i] - d[ext]) > 0:
             ext = i
         elif direction * (d[ext] - d[i]) > h:
-            idx.append(ext)
+            idx[count] = ext
+            count += 1
             direction, ext = -direction, i
-    return np.asarray(idx, dtype=int)
+    return idx[:count].copy()
 
 
 def count_cycles(d: np.ndarray) -> float:
