@@ -37,7 +37,12 @@ def _k_lin(s):
 BETA5_MAX = 10.0
 
 C_LIN = Parameter("C", "kN/(mm/s)", (0.0, 2.0), _c_lin, "linear damping coefficient")
-C_POW = Parameter("C", "kN/(mm/s)^alpha", (0.0, 2.0), _c_pow, "damping coefficient", log=False)
+#: C is searched on a log scale: C and alpha trade off as C v^alpha, so the OF's valley is the
+#: curve log C + alpha log v = const, a straight line in (log C, alpha) that least squares
+#: follows in a few steps (where in C it crawls along the curve: 14 steps against 8 from a
+#: Sobol start on a law-2 device); on 16 varied records, laws 2-5, 4 seeds each, 1 fit of 256
+#: ends beyond 1% of the best known OF, against 8 with C linear
+C_POW = Parameter("C", "kN/(mm/s)^alpha", (0.0, 2.0), _c_pow, "damping coefficient", log=True)
 ALPHA = Parameter("alpha", "-", (0.0, 1.0), _alpha, "damping exponent")
 
 LAWS = {

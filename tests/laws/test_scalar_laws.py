@@ -14,6 +14,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
+from fvd_bridge.fit.space import Space
 from fvd_bridge.golden import DT, GOLDEN_DIR, read_golden
 from fvd_bridge.laws import LAWS
 from fvd_bridge.laws.scalar import advance, force, history, law_constants, new_state
@@ -33,7 +34,7 @@ def golden(n):
 @lru_cache(maxsize=None)
 def population(n):
     """MEMBERS parameter rows drawn across law n's auto bounds (log-uniform for
-    parameters searched on a log scale), then the golden reference set."""
+    parameters searched on a log scale, as the search's space maps them), then the golden reference set."""
     p_ref, d, v, F = golden(n)
     law = LAWS[n]
     bounds = law.bounds("auto", {"F": np.max(np.abs(F)), "v": np.max(np.abs(v)), "d": np.max(np.abs(d))})
@@ -41,9 +42,7 @@ def population(n):
         bounds[0, 0] = max(bounds[0, 0], 1e-3 * bounds[0, 1])
     rng = np.random.default_rng(100 + n)
     u = rng.random((MEMBERS, len(law.parameters)))
-    log = np.array([p.log for p in law.parameters])
-    lo, hi = bounds.T
-    P = np.where(log, lo * (hi / np.where(log, lo, 1.0)) ** u, lo + (hi - lo) * u)
+    P = Space.of(bounds, [p.log for p in law.parameters]).to_params(u)  # as the search draws them
     return np.vstack([P, p_ref])
 
 
