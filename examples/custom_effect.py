@@ -82,7 +82,7 @@ def main() -> int:
     diag = diagnose(rec, "2", seed=0, settings=diagnose_settings(8, 80), catalog=cat)
     print(format_diagnosis(diag))
     top = diag.candidates[0]
-    print(f"\nranked first: {top.effect} (Fs = {top.fit.params[-1]:.3g} kN, planted 15 kN)")
+    print(f"\nranked first: {top.effect} (Fs = {top.fit.values[-1]:.3g} kN, planted 15 kN)")
     return 0 if top.effect == "stribeck" else 1
 
 

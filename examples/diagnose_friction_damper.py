@@ -98,7 +98,7 @@ def main(argv=None) -> int:
     lad = climb(rec, "9", seed=0, settings=settings, max_rungs=2, progress=say)
     print(format_ladder(lad), "\n")
     figs.ladder(lad, os.path.join(args.out, "ladder_law9.png"))
-    models = {d.spec: (d.model, d.fit.params) for d in list(diags.values()) + [lad.final]}
+    models = {d.spec: (d.model, d.fit.values) for d in list(diags.values()) + [lad.final]}
     table = []
     for spec, (model, params) in models.items():
         F = model.force(other, np.asarray(params)[None, :])[0]

@@ -37,8 +37,8 @@ def maxwell_calibration(rec, model, seed, quick: bool):
 
     settings = settings_for(DEFAULT_OPTIMIZER, 8 if quick else None, 60 if quick else None)
     fit = fit_model(model, rec, seed=seed, settings=settings, overrides={"beta": (1.0, 1.0 + 1e-12)})
-    fit.params[3] = 1.0
-    fit = replace(fit, of=float(objective(rec.F, model.force(rec, fit.params[None, :])[0], rec.t)))
+    fit.values[3] = 1.0
+    fit = replace(fit, of=float(objective(rec.F, model.force(rec, fit.values[None, :])[0], rec.t)))
     return Calibration.from_fit(model, fit, rec, {"note": "law 7 with beta held at 1 (Maxwell)"})
 
 

@@ -31,9 +31,9 @@ def fit_warnings(model, runs: list, law1_of: float | None = None) -> list[dict]:
     for name, side in best.on_bound():
         out.append({"code": "on_bound", "parameter": name, "message": _bound_message(model, best, name, side)})
     for d in (d for d in model.law.derived if d.factors):  # law 8: only mu*N is identifiable
-        values = np.array([model.derived(r.params)[d.name][0] for r in runs])
+        values = np.array([model.derived(r.values)[d.name][0] for r in runs])
         first = d.factors[0]
-        alone = np.array([r.params[model.names.index(first)] for r in runs])
+        alone = np.array([r.values[model.names.index(first)] for r in runs])
         out.append({"code": "non_identifiable", "parameter": ",".join(d.factors),
                     "message": f"only {d.name} is identifiable ({d.name} = {values.mean():.4g} {d.unit}, spread "
                                f"{_spread(values):.1%} over runs; {first} alone spreads {_spread(alone):.1%}): "
@@ -85,7 +85,7 @@ def floor_warnings(runs: list, best) -> list[dict]:
 
 def _bound_message(model, best, name: str, side: str) -> str:
     """'alpha ended on its upper bound 1 (bounds auto); try --bound 9:alpha=0,2'."""
-    lo, hi = best.parameters[name].bounds
+    lo, hi = best.params[name].bounds
     rigid = {p.name for p in model.law.parameters if p.rigid_upper}
     if side == "upper" and name.split("@")[0] in rigid:
         return (f"{name} ended on its upper bound {hi:.4g}, which stands for rigid (an elastic range of a "

@@ -322,10 +322,10 @@ class Calibration(Reach):
         test_of = fit.test_of or [float(fit.of)]
         tests = []
         for k, (test, w) in enumerate(zip(device.tests, device.weights)):
-            p = np.asarray(fit.params, dtype=float)[layout.columns(k)]
+            p = np.asarray(fit.values, dtype=float)[layout.columns(k)]
             tests.append(TestFit(test.name, float(w), float(test_of[k]), tested_range(test), record_provenance(test),
                                  {m: float(p[model.names.index(m)]) for m in layout.free}))
-        return cls(model=model, values=np.asarray(fit.params, dtype=float)[:n], of=float(fit.of),
+        return cls(model=model, values=np.asarray(fit.values, dtype=float)[:n], of=float(fit.of),
                    bounds=np.asarray(fit.bounds, dtype=float)[:n], record=record_provenance(device.tests[0]),
                    settings=dict(settings or {}), warnings=list(warnings), runs=RunStats.from_dict(runs, n),
                    tests=tuple(tests),

@@ -78,7 +78,7 @@ class FittedRuns(Sequence):
 
     def stats(self) -> dict:
         """{of_mean, of_sigma, p_mean, p_sigma}: over the runs asked."""
-        P, OF = np.array([r.params for r in self.asked]), np.array([r.of for r in self.asked])
+        P, OF = np.array([r.values for r in self.asked]), np.array([r.of for r in self.asked])
         return {"of_mean": float(OF.mean()), "of_sigma": float(OF.std()),
                 "p_mean": P.mean(axis=0), "p_sigma": P.std(axis=0)}
 
@@ -95,9 +95,9 @@ def repeat_each_other(runs) -> bool:
     (unit-cube distance: the local search's own test of one basin)."""
     best = min(runs, key=lambda r: r.of)
     space = Space.of(best.bounds, best.log or None)
-    at = space.position(np.asarray(best.params))
+    at = space.position(np.asarray(best.values))
     return all(r.of <= best.of * (1.0 + L1_TOLERANCE)
-               and np.max(np.abs(space.position(np.asarray(r.params)) - at), initial=0.0) <= SAME_BASIN
+               and np.max(np.abs(space.position(np.asarray(r.values)) - at), initial=0.0) <= SAME_BASIN
                for r in runs)
 
 
@@ -253,11 +253,11 @@ def fit_intervals(records, results: dict, requests, *, executor=None, progress: 
     for rec in records:
         for q in (q for q in requests if q.intervals):
             key, best = (rec.name, q.spec), min(results[(rec.name, q.spec)], key=lambda r: r.of)
-            layout, replicas, noise = bootstrap_replicas(q.model, rec, best.params, q.per_test, q.intervals,
+            layout, replicas, noise = bootstrap_replicas(q.model, rec, best.values, q.per_test, q.intervals,
                                                          seed=[q.seed, 7], force_zero=q.fits_zero)
-            width = best.params.size + 2 * len(best.zero or {})  # the tests' force zero after the parameters
+            width = best.values.size + 2 * len(best.zero or {})  # the tests' force zero after the parameters
             drawn[key] = (q, layout, best, np.zeros((len(replicas), width)), np.zeros(len(replicas)))
-            items += [(RefitBatch(key, b, q, replicas[b:b + REPLICAS_PER_TASK], best.params, noise, best.bounds),)
+            items += [(RefitBatch(key, b, q, replicas[b:b + REPLICAS_PER_TASK], best.values, noise, best.bounds),)
                       for b in range(0, len(replicas), REPLICAS_PER_TASK)]
     if not drawn:
         return {}
@@ -272,6 +272,6 @@ def fit_intervals(records, results: dict, requests, *, executor=None, progress: 
             bar.update(len(ofs))
     finally:
         bar.close()
-    return {key: from_estimates(q.model, layout, best.params, estimates, float(np.mean(ofs)), best.bounds,
+    return {key: from_estimates(q.model, layout, best.values, estimates, float(np.mean(ofs)), best.bounds,
                                 best.of, best.zero, floor=results[key][0].floor)
             for key, (q, layout, best, estimates, ofs) in drawn.items()}

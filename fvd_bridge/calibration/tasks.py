@@ -86,7 +86,7 @@ def run_task(task: Task, record, request):
         # the floor the runs are judged by (calibration.runs); within NEAR_FLOOR of the force
         # noise's floor alone (a lower bound) a fit is near it, and its propagation is not paid for
         layout = Layout(model, tuple(device.test_names), per_test)
-        fit = replace(fit, floor=device_floor(model, layout, fit.params, device))
+        fit = replace(fit, floor=device_floor(model, layout, fit.values, device))
     if not task.wider:
         return fit
     return replace(fit, stop=f"wider search {task.wider} ({settings.samples} points, {settings.starts} starts"

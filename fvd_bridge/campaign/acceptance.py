@@ -182,7 +182,7 @@ def evaluate(summary: dict, records, cs, acc: Acceptance, *, rating: Rating | No
                 f"{', '.join(per_test)} fitted per test: the force at the design velocity is each test's, not the "
                 f"device's, so law {spec} is not checked against the nominal")
             continue
-        P = np.array([m["best"][dev].params for dev in devices])
+        P = np.array([m["best"][dev].values for dev in devices])
         F = forces_at_velocity(cs.model(spec).force(motion, P), motion.v)
         deviation = np.max(np.abs(F / nominal - 1.0), axis=1)
         out["models"][spec] = {"F": F, "deviation": deviation, "passed": deviation <= acc.tolerance}

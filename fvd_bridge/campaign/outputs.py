@@ -50,7 +50,7 @@ def summarize(records, results: dict, cs) -> dict:
         every = [FittedRuns(results[(dev, spec)]) for dev in devices]
         per_dev = [runs.asked for runs in every]  # the runs asked: their statistics
         names, units = per_dev[0][0].names, per_dev[0][0].units
-        P = np.array([[r.params for r in runs] for runs in per_dev])      # (dev, run, par)
+        P = np.array([[r.values for r in runs] for runs in per_dev])      # (dev, run, par)
         OF = np.array([[r.of for r in runs] for runs in per_dev])          # (dev, run)
         p_mean, p_sigma = P.mean(axis=1), P.std(axis=1)
         # derived quantities (law 8's mu*N) per run, then over runs: not of the mean parameters

@@ -38,11 +38,11 @@ def quantities(summary: dict, cs) -> dict:
     for spec, m in summary["models"].items():
         model = cs.model(spec)
         best = [m["best"][dev] for dev in devices]
-        derived = [model.derived(b.params) for b in best]
+        derived = [model.derived(b.values) for b in best]
         d_names = list(derived[0]) if derived else []
         names = list(m["names"]) + d_names + ["OF"]
         units = list(m["units"]) + [derived[0][n][1] for n in d_names] + ["-"]
-        values = np.array([list(b.params) + [dv[n][0] for n in d_names] + [b.of] for b, dv in zip(best, derived)],
+        values = np.array([list(b.values) + [dv[n][0] for n in d_names] + [b.of] for b, dv in zip(best, derived)],
                           dtype=float).reshape(len(devices), len(names))
         out[spec] = {"names": names, "units": units, "values": values}
     return out

@@ -175,7 +175,7 @@ def compute(summary: dict, records, cs, acc: Acceptance, settings: BoundSettings
                 f"device's, so law {spec} has no bounds")
             continue
         model = cs.model(spec)
-        P = np.array([m["best"][dev].params for dev in devices], dtype=float)
+        P = np.array([m["best"][dev].values for dev in devices], dtype=float)
         F = design_forces(model, P, motion)
         rows = [_row(FORCE, "kN", F, settings)]
         near = m.get("near_zero")

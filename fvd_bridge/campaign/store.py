@@ -77,7 +77,7 @@ def result_from_dict(d: dict) -> FitResult:
     """The FitResult of ``result_to_dict``."""
     names = list(d["names"])
     return FitResult(spec=d["spec"], names=names, units=[d["units"][n] for n in names],
-                     params=np.array([d["params"][n] for n in names], dtype=float), of=float(d["of"]),
+                     values=np.array([d["params"][n] for n in names], dtype=float), of=float(d["of"]),
                      bounds=np.array([d["bounds"][n] for n in names], dtype=float).reshape(-1, 2),
                      bounds_mode=d["bounds_mode"], optimizer=d["optimizer"], seed=d["seed"],
                      evaluations=int(d["evaluations"]), history=[float(h) for h in d["history"]],

@@ -278,9 +278,9 @@ class Diagnosis:
 
     @property
     def params(self) -> dict:
-        """{name: FittedParameter} of the diagnosed model's fit (``FitResult.parameters``):
+        """{name: FittedParameter} of the diagnosed model's fit (``FitResult.params``):
         the estimate [its unit], the search bounds, fixed; as ``Calibration.params``."""
-        return self.fit.parameters
+        return self.fit.params
 
     def named(self) -> dict:
         """{name: value} of the diagnosed model's fit [each its unit], as ``Calibration.named``."""
@@ -378,7 +378,7 @@ def recommended(model, fit, record, settings: dict, *, zero: bool, per_test=(), 
 
     if zero and fit.zero is None:
         fit = zero_mod.beside(model, fit, record, per_test)
-    iv = (bootstrap(model, record, fit.params, per_test=agree.free(model, per_test), bounds=fit.bounds,
+    iv = (bootstrap(model, record, fit.values, per_test=agree.free(model, per_test), bounds=fit.bounds,
                     replicates=replicates, seed=[seed, 7],
                     of=fit.of, force_zero=zero) if replicates else None)
     settings = {**settings, "force_zero": "per-test" if zero else "none", "intervals": int(replicates)}
@@ -419,7 +419,7 @@ def diagnose(record, model, *, seed: int = 0, settings=None, base_fit=None, cand
         history = [BaseRound("given", float(base_fit.of))]
         with timing.stage("  base fit"):
             base_fit = fit_model(model, record, bounds="auto", optimizer=DEFAULT_OPTIMIZER, seed=seed, settings=settings,
-                                 start=base_fit.params, per_test=per_test)
+                                 start=base_fit.values, per_test=per_test)
         if base_fit.of < history[0].of * (1.0 - BASE_TOL):
             history.append(BaseRound("converged from the given fit", float(base_fit.of)))
     found: list = []
@@ -438,10 +438,10 @@ def diagnose(record, model, *, seed: int = 0, settings=None, base_fit=None, cand
                 break
             params, of = polish_model(model, record, start, per_test=per_test)
             say(f"the base can go lower: {base_fit.of:.5g} -> {of:.5g} (refitted from a candidate with its effect off)")
-            base_fit = replace(base_fit, params=params, of=of)
+            base_fit = replace(base_fit, values=params, of=of)
             history.append(BaseRound("lowered by a candidate's refit", float(of)))
             keep = {c.effect: c for c in found if not c.replaces}
-    split = agree.per_test_params(model, device, base_fit.params, per_test)
+    split = agree.per_test_params(model, device, base_fit.values, per_test)
     test_of = [evaluate_params(model, t, p) for t, p in zip(device.tests, split)]
     k_focus = int(np.argmax(test_of))
     focus = device.tests[k_focus]

@@ -188,7 +188,7 @@ def _refit(model, record, start, *, base_fit, seed, settings, name, replaces, sc
                         per_test=per_test)
     cand = Candidate(name, model, fit, float(fit.of), time.perf_counter() - t0, replaces)
     effect = model.effects[-1]
-    cand.off_of = evaluate_params(model, record, switched_off(model, fit.params, effect, scales), per_test=per_test)
+    cand.off_of = evaluate_params(model, record, switched_off(model, fit.values, effect, scales), per_test=per_test)
     if progress:
         progress(cand)
     return cand
@@ -219,7 +219,7 @@ def refit_all(base_model, base_fit, record, effects: dict, *, seed: int, setting
             continue
         model = base_model.with_effect(e)
         pt = free(model, per_test)
-        start = nested_start(model, record, base_fit.names, base_fit.params, pt)
+        start = nested_start(model, record, base_fit.names, base_fit.values, pt)
         out.append(_refit(model, record, start, base_fit=base_fit, seed=seed, settings=settings, name=name, replaces="",
                         scales=scales, progress=progress, per_test=pt))
     for old, new in arrangements(base_model, effects):
@@ -245,7 +245,7 @@ def lower_base(candidates, base_model) -> tuple[float, np.ndarray | None]:
     kept = set(best.model.columns_without(best.effect))
     cols = [k for k, n in enumerate(best.fit.names)  # per-test columns 'NAME@TEST' too
             if best.model.names.index(n.split(SEP)[0]) in kept]
-    return best.off_of, best.fit.params[cols]
+    return best.off_of, best.fit.values[cols]
 
 
 def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: float, focus=None,
@@ -262,16 +262,16 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
     for c in candidates:
         e = c.model.effects[-1]
         c.improvement = float((base_fit.of - c.of) / base_fit.of) if base_fit.of > 0 else 0.0
-        residual = residuals(c.model, device, c.fit.params, per_test)
+        residual = residuals(c.model, device, c.fit.values, per_test)
         dk = len(c.model.parameters) - len(base_model.parameters)
         ok, reason, c.delta_bic, c.n_eff = judge.verdict(base_fit.of, c.of, dk, residual)
-        values = sizes.effect_values(c.model, c.fit.params[:len(c.model.names)], e.name)
+        values = sizes.effect_values(c.model, c.fit.values[:len(c.model.names)], e.name)
         c.size = sizes.effect_size(e, values, focus, sigma_d)
         c.explanation = f"{sizes.explanation(e, base_model.law)} ({c.size.text})"
         if c.replaces:
             c.explanation = f"{e.summary}; replace {c.replaces} by {e.name} ({c.size.text})"
-        own = set(e.names) if not e.off(c.fit.params[[c.model.names.index(n) for n in e.names]])[0] else set()
-        c.on_cap = [f"{name} ended on its {side} bound {c.fit.parameters[name].bounds[int(side == 'upper')]:.4g} "
+        own = set(e.names) if not e.off(c.fit.values[[c.model.names.index(n) for n in e.names]])[0] else set()
+        c.on_cap = [f"{name} ended on its {side} bound {c.fit.params[name].bounds[int(side == 'upper')]:.4g} "
                     f"(the effect's plausible range): the device's effect may be larger than this model allows, "
                     f"or another effect is at work"
                     for name, side in c.fit.on_bound() if name in own]
@@ -283,8 +283,8 @@ def assess(candidates, base_model, base_fit, record, judge: Judge, sigma_d: floa
             ok, reason = False, f"implausible size: {c.size.why}"
         if ok:
             with timing.stage("  held-out checks"):
-                folds = folds or BaseFolds(base_model, base_fit.params, record, per_test)
-                c.held_out = held_out(folds, c.model, c.fit.params, c.improvement)
+                folds = folds or BaseFolds(base_model, base_fit.values, record, per_test)
+                c.held_out = held_out(folds, c.model, c.fit.values, c.improvement)
             gains = ", ".join(f"{g:+.0%}" for g in c.held_out["gain"])
             if c.held_out["worse"]:
                 ok, reason = False, (f"predicts {' and '.join(c.held_out['worse'])} worse than the base "

@@ -86,7 +86,7 @@ def beside(model, fit, record, per_test=()):
     """A FitResult ``fit`` of ``model`` refitted beside the tests' force zero
     (``solve`` from it, within its widened bounds): its parameters, OF, each
     test's OF and the zero (``FitResult.zero``)."""
-    return as_fit(model, fit, record, per_test, solve(model, fit.params, record, per_test, dict(fit.widened or {})))
+    return as_fit(model, fit, record, per_test, solve(model, fit.values, record, per_test, dict(fit.widened or {})))
 
 
 def as_fit(model, fit, record, per_test, solved: ZeroFit):
@@ -97,7 +97,7 @@ def as_fit(model, fit, record, per_test, solved: ZeroFit):
     layout = Layout(model, tuple(device.test_names), free(model, per_test), True)
     test_of = [evaluate_params(model, t, layout.for_test(solved.params[None, :], k)[0], force_zero=True)
                for k, t in enumerate(device.tests)]
-    return replace(fit, params=solved.params, of=solved.of, test_of=test_of, zero=solved.values)
+    return replace(fit, values=solved.params, of=solved.of, test_of=test_of, zero=solved.values)
 
 
 @dataclass
@@ -180,12 +180,12 @@ def check(model, base_fit, record, candidates, judge, per_test=(), progress=None
     if not judged:
         return None
     overrides = dict(base_fit.widened or {})
-    fit = solve(model, base_fit.params, device, per_test, overrides)
+    fit = solve(model, base_fit.values, device, per_test, overrides)
     zero = Zero(float(base_fit.of), fit.of, fit.values, at_rest(device), fit.model_at_rest)
     if progress:
         progress(f"  the tests' force zero     OF {zero.of:.5g} ({(zero.of - base_fit.of) / base_fit.of:+.1%})")
     for c in judged:
-        with_effect = solve(c.model, c.fit.params, device, per_test, {**overrides, **dict(c.fit.widened or {})})
+        with_effect = solve(c.model, c.fit.values, device, per_test, {**overrides, **dict(c.fit.widened or {})})
         c.zero_fit = as_fit(c.model, c.fit, device, per_test, with_effect)  # what a calibration of it is written from
         of_c = min(with_effect.of, zero.of)  # the effect switched off gives the base's zero fit
         ok, why, _, _ = judge.verdict(zero.of, of_c, len(c.model.parameters) - len(model.parameters),

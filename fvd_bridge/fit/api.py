@@ -104,7 +104,7 @@ def fit_model(model, record, *, bounds: str | np.ndarray = "auto", optimizer: st
                          substeps=substeps, overrides={k: v for k, v in overrides.items() if k in parent.names},
                          mask=mask, per_test=[n for n in per_test if n in parent.names], widen=widen,
                          force_zero=force_zero)
-        start = nested_start(model, device, pfit.names, pfit.params, per_test)
+        start = nested_start(model, device, pfit.names, pfit.values, per_test)
         evals, widened, parent_of = pfit.evaluations, dict(pfit.widened), Parent(parent.spec, float(pfit.of))
     before, flat = None, []
     for rounds in range(WIDEN_ROUNDS + 1):
@@ -121,11 +121,11 @@ def fit_model(model, record, *, bounds: str | np.ndarray = "auto", optimizer: st
             break
         before = (fit, dict(widened), more)
         widened = {**widened, **more}
-        start = fit.params
+        start = fit.values
     wall_s = time.perf_counter() - t0
-    test_of = [evaluate_params(model, t, layout.for_test(fit.params, k)[0], force_zero=force_zero)
+    test_of = [evaluate_params(model, t, layout.for_test(fit.values, k)[0], force_zero=force_zero)
                for k, t in enumerate(device.tests)]
-    zero = (zero_mod.values(model, device, layout, fit.params, residual_weights(device, mask)) if force_zero
+    zero = (zero_mod.values(model, device, layout, fit.values, residual_weights(device, mask)) if force_zero
             else None)
     return replace(fit, evaluations=evals, wall_s=wall_s, widened=widened, parent=parent_of, flat_ends=flat,
                    test_of=test_of, zero=zero)
@@ -169,7 +169,7 @@ def _fit_once(model, device, layout, *, bounds, overrides, optimizer, seed, sett
         if np.min(of0) <= of:
             params, of = p0[int(np.argmin(of0))], float(np.min(of0))
     return FitResult(spec=model.spec, names=layout.names, units=layout.repeat(model.units),
-                     params=params, of=float(of), bounds=b, bounds_mode=mode,
+                     values=params, of=float(of), bounds=b, bounds_mode=mode,
                      optimizer=optimizer, seed=seed, evaluations=int(found.evaluations),
                      history=list(found.history), stop=found.stop,
                      record=device.name, log=[bool(v) for v in space.log],

@@ -1,4 +1,4 @@
-"""FittedParameter: one parameter of a fit (``FitResult.parameters``) or of
+"""FittedParameter: one parameter of a fit (``FitResult.params``) or of
 a calibration (``Calibration.params``)."""
 
 from __future__ import annotations

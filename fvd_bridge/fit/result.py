@@ -26,7 +26,7 @@ class FitResult:
     spec: str
     names: list
     units: list
-    params: np.ndarray
+    values: np.ndarray  # the estimates [units per ``units``], in ``names``' order (``Calibration.values``)
     of: float
     bounds: np.ndarray
     bounds_mode: str
@@ -48,22 +48,26 @@ class FitResult:
     floor: float | None = None  # the record's noise floor (fit.floor.device_floor) where the campaign judged the fit by it
 
     @property
-    def parameters(self) -> dict[str, FittedParameter]:
+    def params(self) -> dict[str, FittedParameter]:
         """{name: FittedParameter} in the fit's order (a per-test column 'NAME@TEST'
-        its own): the estimate [its unit], the search bounds, fixed (by the
-        caller: lower bound == upper bound); no stderr or ci95 (a fit has no intervals)."""
+        its own), as ``Calibration.params``: the estimate [its unit], the search
+        bounds, fixed (by the caller: lower bound == upper bound); no stderr or
+        ci95 (a fit has no intervals).  The vector is ``values``."""
         return {n: FittedParameter(n, float(v), u, bounds=(float(lo), float(hi)), fixed=bool(lo == hi))
-                for n, v, u, (lo, hi) in zip(self.names, self.params, self.units, self.bounds)}
+                for n, v, u, (lo, hi) in zip(self.names, self.values, self.units, self.bounds)}
 
     def named(self) -> dict[str, float]:
         """{name: estimate} in the fit's order, as ``Calibration.named``."""
-        return {n: p.value for n, p in self.parameters.items()}
+        return {n: p.value for n, p in self.params.items()}
 
     def as_dict(self) -> dict:
-        d = asdict(self)
+        """The fit as a mapping (the unit files of a campaign's store keep it):
+        the estimates under "params" ({name: value}, in the place and form
+        files have always had; read back by ``campaign.store.result_from_dict``)."""
+        d = {("params" if k == "values" else k): v for k, v in asdict(self).items()}
         d["params"] = self.named()
-        d["bounds"] = {n: list(p.bounds) for n, p in self.parameters.items()}
-        d["units"] = {n: p.unit for n, p in self.parameters.items()}
+        d["bounds"] = {n: list(p.bounds) for n, p in self.params.items()}
+        d["units"] = {n: p.unit for n, p in self.params.items()}
         d.pop("names")
         d["history"] = [float(h) for h in self.history]
         d["log"] = [bool(x) for x in self.log]
@@ -77,10 +81,10 @@ class FitResult:
         judged on their log scale): [(name, 'lower'|'upper')].  A lower bound of 0
         and an effect's 'off' value are natural ends, not starvation; a fixed
         parameter is on neither."""
-        x = Space.of(self.bounds, self.log or None).position(np.asarray(self.params))
+        x = Space.of(self.bounds, self.log or None).position(np.asarray(self.values))
         off = self.off or [None] * len(self.names)
         out = []
-        for p, xi, o in zip(self.parameters.values(), x, off):
+        for p, xi, o in zip(self.params.values(), x, off):
             if p.fixed:
                 continue
             lo, hi = p.bounds

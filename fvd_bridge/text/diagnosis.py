@@ -14,7 +14,7 @@ EXPLAIN_TOP = 3
 
 def _params(fit) -> str:
     """'C = 45.06 kN/(mm/s)^alpha, alpha = 0.3 -': a fit's estimates with their units."""
-    return ", ".join(f"{p.name} = {p.value:.4g} {p.unit}" for p in fit.parameters.values())
+    return ", ".join(f"{p.name} = {p.value:.4g} {p.unit}" for p in fit.params.values())
 
 
 def _targets(exports: dict) -> str:

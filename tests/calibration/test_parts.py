@@ -38,7 +38,7 @@ def test_a_fit_is_frozen_and_replace_gives_a_changed_copy(law2_fit):
     with pytest.raises(FrozenInstanceError):
         law2_fit.of = 0.0
     lower = replace(law2_fit, of=law2_fit.of / 2)
-    assert lower.of == law2_fit.of / 2 and lower.params is law2_fit.params and law2_fit.of > lower.of
+    assert lower.of == law2_fit.of / 2 and lower.values is law2_fit.values and law2_fit.of > lower.of
     # what fit_model adds after the search is in the fit it returns
     assert law2_fit.evaluations > 0 and law2_fit.wall_s > 0 and len(law2_fit.test_of) == 1
     assert law2_fit.test_of[0] == pytest.approx(law2_fit.of, rel=1e-12)
@@ -47,7 +47,7 @@ def test_a_fit_is_frozen_and_replace_gives_a_changed_copy(law2_fit):
 def test_a_stored_unit_reads_back_as_the_same_fit(law2_fit):
     back = result_from_dict(result_to_dict(law2_fit))
     assert back.as_dict() == law2_fit.as_dict() and back.names == law2_fit.names
-    assert np.array_equal(back.params, law2_fit.params) and np.array_equal(back.bounds, law2_fit.bounds)
+    assert np.array_equal(back.values, law2_fit.values) and np.array_equal(back.bounds, law2_fit.bounds)
 
 
 # ------------------------------------------------- the calibration's tests and runs

@@ -193,7 +193,7 @@ def test_bad_campaign_file_one_line(tmp_path, text, words):
 
 # ------------------------------------------------------------ statistics at the edges
 def fit(spec, names, params, of, bounds, log=None):
-    return FitResult(spec=spec, names=names, units=["-"] * len(names), params=np.array(params, float), of=of,
+    return FitResult(spec=spec, names=names, units=["-"] * len(names), values=np.array(params, float), of=of,
                      bounds=np.array(bounds, float), bounds_mode="auto", optimizer="de", seed=[0],
                      evaluations=1, log=log or [False] * len(names), off=[None] * len(names))
 
@@ -285,7 +285,7 @@ def test_a_rig_series_is_held_to_its_nominal_dampers_rating_not_to_the_rig():
         45.4 * 300.0 ** 0.3, rel=1e-4)
     t = np.arange(0, 4, 0.002)
     rec = Record.from_arrays(t, 30 * np.sin(2 * np.pi * t), 50 * np.cos(2 * np.pi * t), name="dev")
-    summary = {"devices": ["dev"], "models": {"2": {"best": {"dev": SimpleNamespace(params=np.array([45.4, 0.3]))}}}}
+    summary = {"devices": ["dev"], "models": {"2": {"best": {"dev": SimpleNamespace(values=np.array([45.4, 0.3]))}}}}
     a = evaluate(summary, [rec], CampaignSettings(specs=("2",)), Acceptance(velocity=300.0), rating=rating)
     assert a["nominal_force"] == pytest.approx(45.4 * 300.0 ** 0.3, rel=1e-4)
     assert a["nominal_source"] == "rig nominal device: C V^alpha, law 2 with C 45.4, alpha 0.3"

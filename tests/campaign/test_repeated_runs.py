@@ -95,7 +95,7 @@ def test_a_campaigns_intervals_spread_over_processes_are_those_of_one_process(re
     results = run_campaign([rec], cs, progress=False, executor=Serial())
     best = results[(rec.name, "9")][0]
     spread = run_intervals([rec], results, cs, executor=Processes(2), progress=False)[(rec.name, "9")]
-    here = intervals(catalog().model("9"), rec, best.params, bounds=best.bounds, replicates=10, seed=[0, 7], of=best.of,
+    here = intervals(catalog().model("9"), rec, best.values, bounds=best.bounds, replicates=10, seed=[0, 7], of=best.of,
                      floor=best.floor)  # the floor the campaign judged the run by (None: near it)
     assert spread.replicates == here.replicates == 10
     for a, b in ((spread.ci95, here.ci95), (spread.stderr, here.stderr), (spread.noise_of, here.noise_of)):

@@ -109,7 +109,7 @@ def test_plugin_effect_is_calibrated_and_ranked(protocol, tmp_path, lab_dir):
     assert len(diag.candidates) == 8
     fit = fit_model(cat.model("2+cubic_spring"), rec, seed=1, settings=SETTINGS)
     assert fit.names[-1] == "cubic_spring.K3"
-    assert fit.params[-1] == pytest.approx(K3, rel=0.05)
+    assert fit.values[-1] == pytest.approx(K3, rel=0.05)
     assert fit.of <= 2.0 * diag.floor
 
 
@@ -243,7 +243,7 @@ def test_a_diagnosis_keeps_what_it_was_run_on(protocol, lab_dir):
     with pytest.raises(dataclasses.FrozenInstanceError):
         i.seed = 5
     # as a Calibration speaks: .params the FittedParameters, .named() their values
-    assert diag.params == diag.fit.parameters and isinstance(diag.params["C"], FittedParameter)
+    assert diag.params == diag.fit.params and isinstance(diag.params["C"], FittedParameter)
     assert diag.named() == {n: p.value for n, p in diag.params.items()} == diag.as_dict()["params"]
     assert diag.units() == {"C": "kN/(mm/s)^alpha", "alpha": "-"} == diag.as_dict()["units"]
     assert list(diag.named()) == diag.fit.names and diag.named()["C"] == pytest.approx(C, rel=0.03)
@@ -373,11 +373,11 @@ def test_the_floor_is_the_records_and_what_the_true_model_reaches(protocol, lab_
     law2 = catalog().model("2")
     truth_of = evaluate_params(law2, rec, [C, ALPHA])
     fitted = fit_model(law2, rec, seed=0)
-    floor = record_floor(law2, fitted.params, rec).floor
+    floor = record_floor(law2, fitted.values, rec).floor
     assert 0.8 * truth_of < floor < 1.25 * truth_of
     gap = catalog().model("2+gap")
     with_gap = fit_model(gap, rec, seed=0)
-    assert record_floor(gap, with_gap.params, rec).floor == pytest.approx(floor, rel=0.02)
+    assert record_floor(gap, with_gap.values, rec).floor == pytest.approx(floor, rel=0.02)
 
 
 def test_target_ranks_only_what_reaches_it(friction_csv, tmp_path, capsys):

@@ -130,7 +130,7 @@ def test_contact_gap_on_a_friction_device(law, folder):
     check_nested(diag)
     assert diag.best is not None and diag.best.effect == "gap", format_diagnosis(diag)
     assert diag.best.of <= 0.5 * diag.of
-    g = diag.best.fit.params[-1]
+    g = diag.best.fit.values[-1]
     assert g == pytest.approx(2.0, rel=0.15)
     # the same device without a gap: no gap suggested
     plain = simulate_model(catalog().model(str(law)), REFERENCE[law], protocol)
@@ -147,7 +147,7 @@ def test_bad_base_start_is_recovered(folder):
     model = catalog().model("2")
     good = fit_model(model, rec, seed=[0, 0, 0, 0], settings=settings_for(DEFAULT_OPTIMIZER))
     bad = fit_model(model, rec, seed=0, settings=diagnose_settings(4, 2))
-    bad = replace(bad, params=np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01]), of=float("inf"))
+    bad = replace(bad, values=np.array([bad.bounds[0, 1] * 0.9, bad.bounds[1, 0] * 1.1 + 0.01]), of=float("inf"))
     diag = diagnose(rec, model, seed=0, settings=SETTINGS, base_fit=bad)
     assert diag.of <= 1.01 * good.of
     check_nested(diag)
@@ -173,8 +173,8 @@ def test_held_out_rejects_an_effect_of_one_part_of_the_record(folder):
     rec = lab_file(tr["t"], tr["d"], F, 0.005, 7, folder, "offset_first_half")
     diag = diagnose(rec, "2", seed=0, settings=SETTINGS)
     cand = next(c for c in diag.candidates if c.effect == "parallel_stiffness")
-    folds = BaseFolds(diag.model, diag.fit.params, rec)
-    check = held_out(folds, cand.model, cand.fit.params, cand.improvement)
+    folds = BaseFolds(diag.model, diag.fit.values, rec)
+    check = held_out(folds, cand.model, cand.fit.values, cand.improvement)
     assert not check["passes"], check
     assert "parallel_stiffness" not in [c.effect for c in diag.suggestions], format_diagnosis(diag)
 
@@ -268,7 +268,7 @@ def test_a_seal_friction_on_five_levels_passes_the_held_out_check(folder):
     text = format_diagnosis(diag)
     assert diag.best is not None and diag.best.effect == "friction", text
     assert diag.best.held_out["passes"] and min(diag.best.held_out["gain"]) > 0.25, text
-    fitted = diag.best.fit.params[diag.best.model.names.index("friction.Ff")]
+    fitted = diag.best.fit.values[diag.best.model.names.index("friction.Ff")]
     assert fitted == pytest.approx(ff, rel=0.15), text
 
 
@@ -293,7 +293,7 @@ def test_diagnose_on_the_tests_of_one_device_leaves_one_test_out(folder):
     assert len(best.held_out["gain"]) == 3 and best.held_out["passes"], text
     assert "held-out tests" in best.reason
     # near its size: short tests (2 cycles, dt 0.004 s), where law 2's alpha trades with a constant force
-    assert best.fit.params[best.model.names.index("friction.Ff")] == pytest.approx(ff, rel=0.25), text
+    assert best.fit.values[best.model.names.index("friction.Ff")] == pytest.approx(ff, rel=0.25), text
 
 
 # ------------------------------------------------------------------ tests that disagree
@@ -411,7 +411,7 @@ def test_a_seal_friction_of_a_few_percent_is_found_on_five_levels(ff, tmp_path):
                          name=f"seal{ff:g}_{seed}")
         diag = diagnose(rec, "2", seed=seed)
         assert diag.best is not None and diag.best.effect == "friction", format_diagnosis(diag)
-        assert dict(zip(diag.best.fit.names, diag.best.fit.params))["friction.Ff"] == pytest.approx(ff, rel=0.15)
+        assert dict(zip(diag.best.fit.names, diag.best.fit.values))["friction.Ff"] == pytest.approx(ff, rel=0.15)
 
 
 @pytest.mark.slow

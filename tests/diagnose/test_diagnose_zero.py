@@ -103,7 +103,7 @@ def test_the_rests_pin_the_zero(folder):
     from fvd_bridge.fit import fit_model
 
     base = fit_model(model, test, seed=0)
-    fit = solve(model, base.params, test)
+    fit = solve(model, base.values, test)
     assert fit.of < 0.2 * base.of
     (offset, drift), = fit.values.values()
     assert fit.model_at_rest == {test.name: 0.0}  # law 2 at v = 0
@@ -123,7 +123,7 @@ def test_a_real_parallel_spring_is_still_credited(folder, params):
     best = diag.best
     assert best is not None and best.effect == "parallel_stiffness", text
     assert "beyond the tests' force zero too" in best.reason, text
-    assert best.fit.params[best.model.names.index("parallel_stiffness.Kp")] == pytest.approx(1.5, rel=0.1)
+    assert best.fit.values[best.model.names.index("parallel_stiffness.Kp")] == pytest.approx(1.5, rel=0.1)
     assert diag.zero is not None and next(b for b in diag.zero.effects if b.effect == best.effect).significant
 
 

@@ -76,13 +76,13 @@ def test_a_parameter_per_test_where_the_tests_differ(tmp_path):
     shared = fit_model(model, dev, seed=0)
     free = fit_model(model, dev, seed=0, per_test=("C",))
     assert free.names == ["C", "alpha", "C@t1"]
-    assert free.params[0] == pytest.approx(40.0, rel=0.03) and free.params[2] == pytest.approx(48.0, rel=0.03)
-    assert free.params[1] == pytest.approx(0.3, abs=0.01)
+    assert free.values[0] == pytest.approx(40.0, rel=0.03) and free.values[2] == pytest.approx(48.0, rel=0.03)
+    assert free.values[1] == pytest.approx(0.3, abs=0.01)
     assert free.of < 0.9 * shared.of
     cal = Calibration.from_fit(model, free, dev)
-    assert cal.params_for("t1")[0] == pytest.approx(free.params[2])
-    assert cal.to_dict()["parameters"]["C"]["per_test"] == {"t0": pytest.approx(free.params[0]),
-                                                            "t1": pytest.approx(free.params[2])}
+    assert cal.params_for("t1")[0] == pytest.approx(free.values[2])
+    assert cal.to_dict()["parameters"]["C"]["per_test"] == {"t0": pytest.approx(free.values[0]),
+                                                            "t1": pytest.approx(free.values[2])}
 
 
 def test_an_effect_starts_from_its_base_where_the_search_alone_fails(three_tests):
@@ -96,7 +96,7 @@ def test_an_effect_starts_from_its_base_where_the_search_alone_fails(three_tests
     good = fit_model(cat.model("2"), rec, seed=3)
     alone = fit_model(model, rec, seed=3, optimizer="de", settings=tiny, nested=False)
     assert alone.of > good.of  # the search alone ends worse than the base: the guarantee is needed
-    start = nested_start(model, rec, good.names, good.params)
+    start = nested_start(model, rec, good.names, good.values)
     assert start[-1] == 0.0  # friction off
     assert fit_model(model, rec, seed=3, optimizer="de", settings=tiny, start=start).of <= good.of
     assert (fit_model(model, rec, seed=3, optimizer="de", settings=tiny).of

@@ -56,7 +56,7 @@ def test_default_optimizer_recovers_each_law(law_no):
     floor = noise_floor(NOISE, rec.F)
     assert res.of <= 2.0 * floor
     true = np.array(TRUE[law_no])
-    got = res.params
+    got = res.values
     if law_no == 8:  # only mu N is identifiable
         true = np.array([true[0], true[1], true[2] * true[3]])
         got = np.array([got[0], got[1], got[2] * got[3]])
@@ -137,7 +137,7 @@ def test_fit_is_reproducible_by_seed():
     model, rec = synthetic(9)
     r1 = fit_model(model, rec, optimizer="ga", seed=5)
     r2 = fit_model(model, rec, optimizer="ga", seed=5)
-    np.testing.assert_array_equal(r1.params, r2.params)
+    np.testing.assert_array_equal(r1.values, r2.values)
 
 
 def test_delta_beta_pareto_by_hand():
@@ -208,7 +208,7 @@ def test_local_optimizer_reaches_the_de_optimum(law_no):
     assert local.of <= checked.of * (1.0 + L1_TOLERANCE)
     assert local.evaluations <= de.evaluations / 3
     same = (lambda p: np.array([p[0], p[1], p[2] * p[3]])) if law_no == 8 else (lambda p: p)  # law 8: mu N only
-    assert same(local.params) == pytest.approx(same(de.params), rel=0.02, abs=1e-3)
+    assert same(local.values) == pytest.approx(same(de.values), rel=0.02, abs=1e-3)
 
 
 def _two_wells(X):
@@ -331,33 +331,33 @@ def test_a_gapped_damper_on_an_earthquake_test_calibrates_to_one_optimum_from_an
     ofs = [f.of for f in fits]
     assert max(ofs) <= min(ofs) * (1.0 + L1_TOLERANCE)
     for f in fits:
-        values = dict(zip(f.names, f.params))
+        values = dict(zip(f.names, f.values))
         assert values["gap.g"] == pytest.approx(1.5, abs=0.01)
         assert values["alpha"] == pytest.approx(0.4, abs=0.01)
 
 
 def test_a_fits_parameters_are_its_columns_and_a_fixed_one_says_so():
-    """``FitResult.parameters`` holds, in the fit's order, each estimate with
+    """``FitResult.params`` holds, in the fit's order, each estimate with
     its unit and search bounds and no interval (a fit has none); the file's
     mapping (``as_dict``) is the parallel fields'.  Held at alpha = 0.3 (its
     truth) the fit keeps it there, reports it fixed and never on a bound,
     and C comes back to 2%."""
     model, rec = synthetic(2)
     free = fit_model(model, rec, seed=3)
-    p = free.parameters
+    p = free.params
     assert list(p) == free.names == ["C", "alpha"]
-    assert [x.value for x in p.values()] == list(free.params)
+    assert [x.value for x in p.values()] == list(free.values)
     assert [x.unit for x in p.values()] == free.units == ["kN/(mm/s)^alpha", "-"]
     assert [x.bounds for x in p.values()] == [tuple(b) for b in free.bounds.tolist()]
     assert not any(x.fixed or x.stderr is not None or x.ci95 is not None for x in p.values())
-    assert free.named() == {n: float(v) for n, v in zip(free.names, free.params)}
+    assert free.named() == {n: float(v) for n, v in zip(free.names, free.values)}
     d = free.as_dict()
     assert d["params"] == free.named() and d["units"] == {"C": "kN/(mm/s)^alpha", "alpha": "-"}
     assert d["bounds"] == {n: [float(lo), float(hi)] for n, (lo, hi) in zip(free.names, free.bounds)}
-    assert p["C"].text() == f"C = {free.params[0]:.6g} kN/(mm/s)^alpha"
+    assert p["C"].text() == f"C = {free.values[0]:.6g} kN/(mm/s)^alpha"
 
     held = fit_model(model, rec, seed=3, overrides={"alpha": (0.3, 0.3)})
-    alpha, C = held.parameters["alpha"], held.parameters["C"]
+    alpha, C = held.params["alpha"], held.params["C"]
     assert alpha.fixed and alpha.value == 0.3 and alpha.bounds == (0.3, 0.3)
     assert alpha.text() == "alpha = 0.3 (fixed)" and not C.fixed
     assert C.value == pytest.approx(TRUE[2][0], rel=0.02)

@@ -128,7 +128,7 @@ def test_the_zero_is_eq18s_own_line_on_a_skewed_real_residual(shared_dir, monkey
     rec = read_record(str(shared_dir / "devices" / "arts_brfd_1Hz_35lb.csv"))
     model = parse_model("9")
     fit = fit_model(model, rec, seed=0)
-    P = fit.params[None, :]
+    P = fit.values[None, :]
 
     def of(zero_fitted: bool) -> float:
         return float(joint_objective(model, as_device(rec), Layout(model, (rec.name,), (), zero_fitted), P)[0])

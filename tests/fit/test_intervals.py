@@ -58,11 +58,11 @@ def coverage(records):
     covered, widths, errors, inside = [], [], [], []
     for s, rec in enumerate(records):
         fit = fit_model(model, rec, seed=0)
-        iv = intervals(model, rec, fit.params, bounds=fit.bounds, seed=s)
+        iv = intervals(model, rec, fit.values, bounds=fit.bounds, seed=s)
         covered.append((iv.ci95[:, 0] <= truth) & (truth <= iv.ci95[:, 1]))
         widths.append((iv.ci95[:, 1] - iv.ci95[:, 0]) / truth)
-        errors.append((fit.params - truth) / iv.stderr)
-        inside.append((iv.ci95[:, 0] < fit.params) & (fit.params < iv.ci95[:, 1]))
+        errors.append((fit.values - truth) / iv.stderr)
+        inside.append((iv.ci95[:, 0] < fit.values) & (fit.values < iv.ci95[:, 1]))
     return np.array(covered), np.array(widths), np.array(errors), np.array(inside)
 
 
@@ -109,8 +109,8 @@ def test_a_gaps_interval_covers_its_clearance_on_acceptance_records(tmp_path):
         rec = lab_record(VirtualDamper(C=20.0, alpha=0.5, gap=1.0), acceptance(cycles=2), 1.0, 0.01, seed=200 + s,
                          tmp_path=tmp_path, name=f"gap{s}")
         fit = fit_model(model, rec, seed=0)
-        iv = intervals(model, rec, fit.params, bounds=fit.bounds, seed=s)
-        assert np.all((iv.ci95[:, 0] < fit.params) & (fit.params < iv.ci95[:, 1]))
+        iv = intervals(model, rec, fit.values, bounds=fit.bounds, seed=s)
+        assert np.all((iv.ci95[:, 0] < fit.values) & (fit.values < iv.ci95[:, 1]))
         for name, value in truth.items():
             lo, hi = iv.ci95[model.names.index(name)]
             hits[name] += bool(lo <= value <= hi)
@@ -125,7 +125,7 @@ def test_rests_take_no_force_from_the_velocity_noise(tmp_path):
     rests = rec.provenance["velocity"]["rests_s"]
     assert rests[0][0] == 0.0 and 0.45 <= rests[0][1] <= 0.55 and rests[-1][1] == pytest.approx(rec.t[-1], abs=0.01)
     fit = fit_model(catalog().model("2"), rec, seed=0)
-    assert fit.params[0] == pytest.approx(TRUTH["C"], rel=0.004)
+    assert fit.values[0] == pytest.approx(TRUTH["C"], rel=0.004)
     still = rest_mask(rec)  # the rests' samples are those of zero velocity, in a slice of the record too
     assert still.sum() > 400 and np.array_equal(still, (rec.v == 0.0) & (rec.a == 0.0))
     part = rec.slice(100, rec.n - 50)
@@ -206,12 +206,12 @@ def test_the_replicates_newton_steps_reach_their_own_refits(tmp_path, law):
     model = catalog().model(law)
     fit = fit_model(model, rec, seed=0)
     clean = smoothed(rec)
-    F_clean = model.force(clean, fit.params[None, :])[0]
+    F_clean = model.force(clean, fit.values[None, :])[0]
     replicas = _replicates(rec, F_clean, clean, force_noise(rec.F), 20, np.random.default_rng(5))
-    newton, _ = newton_refits(model, Layout(model, (rec.name,)), replicas, fit.params, [force_noise(rec.F)],
+    newton, _ = newton_refits(model, Layout(model, (rec.name,)), replicas, fit.values, [force_noise(rec.F)],
                               fit.bounds)
-    refits = np.array([polish_model(model, r, fit.params)[0] for r in replicas])
+    refits = np.array([polish_model(model, r, fit.values)[0] for r in replicas])
     spread = refits.std(axis=0, ddof=1)
     assert np.all(np.abs(newton.mean(axis=0) - refits.mean(axis=0)) < 0.25 * spread)
     assert np.all(np.abs(newton.std(axis=0, ddof=1) / spread - 1.0) < 0.25)
-    assert np.all(np.abs(refits.mean(axis=0) - fit.params) > 0.5 * spread)  # the bias the steps must follow
+    assert np.all(np.abs(refits.mean(axis=0) - fit.values) > 0.5 * spread)  # the bias the steps must follow

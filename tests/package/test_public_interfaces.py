@@ -134,7 +134,7 @@ def test_executors_give_the_same_campaign(tmp_path):
     for other in runs[1:]:
         for key, fits in runs[0].items():
             assert [f.of for f in fits] == [f.of for f in other[key]]
-            assert all(np.array_equal(a.params, b.params) for a, b in zip(fits, other[key]))
+            assert all(np.array_equal(a.values, b.values) for a, b in zip(fits, other[key]))
 
 
 def _worker_pid(_):
