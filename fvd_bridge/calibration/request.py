@@ -130,14 +130,31 @@ class FitRequest:
         return self
 
     def as_settings(self) -> dict:
-        """The settings a calibration file keeps (the form ``fvd-bridge
-        calibrate`` writes for one model: ``CampaignSettings.as_dict``)."""
-        return {"specs": [self.spec], "runs": self.runs, "bounds": self.bounds, "optimizer": self.optimizer,
-                "seed": self.seed, "optimizer_settings": asdict(self.settings), "plugins": list(self.plugins),
-                "bound_overrides": [[None, n, lo, hi] for n, (lo, hi) in self.overrides.items()],
-                "per_test": [[None, n] for n in self.per_test], "intervals": self.intervals,
-                "all_runs": self.all_runs, "start_values": [[None, n, v] for n, v in self.start_values.items()],
-                **({"force_zero": self.force_zero} if self.fits_zero else {}),
-                "start": None if self.extends is None else {"model": self.extends.spec,
-                                                            "values": dict(zip(self.extends.names,
-                                                                               self.extends.values))}}
+        """The settings a calibration file keeps (``settings_dict`` for this
+        one model: its options, each under no model (None), as a one-model
+        ``fvd-bridge calibrate`` writes them)."""
+        return settings_dict(specs=[self.spec], runs=self.runs, bounds=self.bounds, optimizer=self.optimizer,
+                             seed=self.seed, optimizer_settings=self.settings, plugins=self.plugins,
+                             bound_overrides=[(None, n, lo, hi) for n, (lo, hi) in self.overrides.items()],
+                             per_test=[(None, n) for n in self.per_test], intervals=self.intervals,
+                             all_runs=self.all_runs, start_values=[(None, n, v) for n, v in self.start_values.items()],
+                             force_zero=self.force_zero, start=self.extends)
+
+
+def settings_dict(*, specs, runs, bounds, optimizer, seed, optimizer_settings, plugins, bound_overrides, per_test,
+                  intervals, all_runs, start_values, force_zero, start) -> dict:
+    """The settings dict of a calibration file, a campaign's settings.json
+    and its store's fingerprint, built here only (``FitRequest.as_settings``
+    for one model, ``CampaignSettings.as_dict`` for a campaign's): its keys
+    in their order, each value in its file form.  ``bound_overrides``
+    (spec or None, name, lower, upper), ``per_test`` (spec or None, name),
+    ``start_values`` (spec or None, name, value): each a row;
+    ``optimizer_settings`` the optimizer's settings dataclass; ``start`` an
+    Extends or None.  ``force_zero`` is written only when 'per-test' (the
+    files written before it was an option stay as they were)."""
+    return {"specs": list(specs), "runs": runs, "bounds": bounds, "optimizer": optimizer, "seed": seed,
+            "optimizer_settings": asdict(optimizer_settings), "plugins": list(plugins),
+            "bound_overrides": [list(o) for o in bound_overrides], "per_test": [list(o) for o in per_test],
+            "intervals": intervals, "all_runs": all_runs, "start_values": [list(o) for o in start_values],
+            **({"force_zero": force_zero} if force_zero == "per-test" else {}),
+            "start": None if start is None else {"model": start.spec, "values": dict(zip(start.names, start.values))}}

@@ -5,11 +5,11 @@ calibration path (``calibration.runs``) through the campaign's executor."""
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from .. import timing
-from ..calibration.request import Extends, FitRequest
+from ..calibration.request import Extends, FitRequest, settings_dict
 from ..calibration.runs import fit_intervals, fit_runs
 from ..catalog import catalog as load_catalog
 from ..fit import DEFAULT_OPTIMIZER, settings_for
@@ -114,16 +114,15 @@ class CampaignSettings:
         return [self.request(spec) for spec in self.specs]
 
     def as_dict(self) -> dict:
-        s = settings_for(self.optimizer, self.pop, self.gens, self.stall)
-        return {"specs": list(self.specs), "runs": self.runs, "bounds": self.bounds,
-                "optimizer": self.optimizer, "seed": self.seed, "optimizer_settings": asdict(s),
-                "plugins": list(self.plugins),
-                "bound_overrides": [list(o) for o in self.bound_overrides],
-                "per_test": [list(o) for o in self.per_test], "intervals": self.intervals,
-                "all_runs": self.all_runs, "start_values": [list(o) for o in self.start_values],
-                **({"force_zero": self.force_zero} if self.fits_zero else {}),  # (files of before: unchanged)
-                "start": None if self.start is None else {"model": self.start.spec,
-                                                          "values": dict(zip(self.start.names, self.start.values))}}
+        """The campaign's settings (``calibration.request.settings_dict``: the
+        keys and forms of ``FitRequest.as_settings``), its options each with
+        the model it names (None: every model having it)."""
+        return settings_dict(specs=self.specs, runs=self.runs, bounds=self.bounds, optimizer=self.optimizer,
+                             seed=self.seed, optimizer_settings=settings_for(self.optimizer, self.pop, self.gens,
+                                                                             self.stall),
+                             plugins=self.plugins, bound_overrides=self.bound_overrides, per_test=self.per_test,
+                             intervals=self.intervals, all_runs=self.all_runs, start_values=self.start_values,
+                             force_zero=self.force_zero, start=self.start)
 
 
 def run_campaign(records, cs: CampaignSettings, progress: bool = True, executor=None) -> dict:

@@ -103,3 +103,27 @@ def test_a_request_is_checked_once_by_parameter_name(given, words):
     with pytest.raises(fb.InputError) as exc:
         FitRequest(spec="2", **given).check()
     assert words in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_a_one_model_campaign_keeps_the_settings_its_request_gives():
+    """The settings dict is built in one place (``request.settings_dict``):
+    a campaign of one model with options naming no model writes what its
+    FitRequest gives (the same keys in the same order, the same values);
+    options naming a model keep it in the campaign's."""
+    import json
+
+    from fvd_bridge.calibration.request import Extends
+
+    given = dict(runs=3, seed=4, intervals=5, all_runs=True, force_zero="per-test",
+                 bound_overrides=((None, "C", 10.0, 80.0), (None, "alpha", 0.3, 0.3)), per_test=((None, "C"),),
+                 start_values=((None, "C", 44.0),), start=Extends("2", ("C", "alpha"), (45.0, 0.3)))
+    cs = CampaignSettings(specs=("2",), **given)
+    one = cs.request("2").as_settings()
+    assert json.dumps(cs.as_dict()) == json.dumps(one)
+    assert list(one) == ["specs", "runs", "bounds", "optimizer", "seed", "optimizer_settings", "plugins",
+                         "bound_overrides", "per_test", "intervals", "all_runs", "start_values", "force_zero", "start"]
+    assert one["bound_overrides"] == [[None, "C", 10.0, 80.0], [None, "alpha", 0.3, 0.3]]
+    assert one["start"] == {"model": "2", "values": {"C": 45.0, "alpha": 0.3}}
+    assert "force_zero" not in FitRequest(spec="2").as_settings()  # written only when per-test, as before
+    named = CampaignSettings(specs=("2", "9"), bound_overrides=(("9", "beta", 40.0, 40.0),)).as_dict()
+    assert named["bound_overrides"] == [["9", "beta", 40.0, 40.0]] and named["specs"] == ["2", "9"]
