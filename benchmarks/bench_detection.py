@@ -217,7 +217,7 @@ def run_one(rec: Record, effect: str, seed: int) -> dict:
             "plausible": bool(c.size.plausible) if c.size else True,
             "held_out": _plain({k: held[k] for k in ("gain", "passes", "worse") if k in held}) if held else None,
             "on_cap": list(c.on_cap),
-            "params": {n: float(v) for n, v in zip(c.fit.names, c.fit.params)},
+            "params": {n: float(v) for n, v in zip(c.fit.names, c.fit.values)},
             "oracle": oracle(c, diag.of, dk)})
     best = diag.best.effect if diag.best is not None else None
     names = {effect} | SAME.get(effect, set())

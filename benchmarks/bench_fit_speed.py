@@ -140,7 +140,7 @@ def overhead(model, rec, wall: float, fit) -> str:
     kernel (timed in batches of n + 1, as its Jacobians run) and the rest
     (the solver's and the package's Python per call)."""
     n = len(model.names)
-    P = np.repeat(np.asarray(fit.params, dtype=float)[None, :], n + 1, axis=0)
+    P = np.repeat(np.asarray(fit.values, dtype=float)[None, :], n + 1, axis=0)
     per_set, _ = best_of(5, lambda: model.force(rec, P))
     kernel = fit.evaluations * per_set / (n + 1)
     return (f"     default fit: {fit.evaluations} parameter sets, {1e3 * kernel:.1f} ms in the kernel "
