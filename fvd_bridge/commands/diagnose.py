@@ -121,7 +121,7 @@ def run(args) -> int:
     paths = {spec: os.path.join(args.out, name) for spec, name in names.items()}
     _hand_over(report, paths)
     with timing.stage("outputs, figures"):
-        files = _write(args, record, diag, lad, report, {names[spec]: fit for spec, fit in fits.items()})
+        files, saved = _write(args, record, diag, lad, report, {names[spec]: fit for spec, fit in fits.items()})
     if args.json:
         print(json.dumps(report, indent=1))
     else:
@@ -131,6 +131,11 @@ def run(args) -> int:
             print(format_ladder(lad))
         else:
             print(format_diagnosis(diag, label, _next_lines(args, diag, paths)))
+        if saved:
+            print("\ncalibration files (each refitted as calibrate fits, with its intervals):")
+            for path, (of, zero) in saved.items():
+                beside = ", beside the tests' force zero, which no export carries" if zero else ""
+                print(f"  {path}: OF {of:.4g}{beside}")
         if files:
             print(f"\nwrote {', '.join(files)}")
     return 0
@@ -192,18 +197,21 @@ def _next_lines(args, diag, paths: dict) -> list:
     return [export_step(best.exports, shlex.quote(paths[best.spec]), args.target), " ".join(again)]
 
 
-def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
+def _write(args, record, diag, lad, report, fits: dict) -> tuple[list[str], dict]:
     """The calibration files of what diagnose found ({file name in OUT:
     (model, fit, zero)}, ``_refits``), figures and the JSON report, all or nothing
-    (a staging directory)."""
+    (a staging directory): (the paths written, {calibration file: (its OF, fitted
+    beside the tests' force zero)})."""
     base = safe_name(record.name)
-    written = []
+    written, saved = [], {}
     settings = {"source": "diagnose", **report["settings"]}
     with staged_dir(args.out) as stage:
         for name, (model, fit, zero) in fits.items():  # with intervals; beside the force zero where it was fitted
-            recommended(model, fit, record, settings, zero=zero, per_test=diag.per_test,
-                        seed=args.seed, replicates=args.intervals).save(os.path.join(stage, name))
+            cal = recommended(model, fit, record, settings, zero=zero, per_test=diag.per_test,
+                              seed=args.seed, replicates=args.intervals)
+            cal.save(os.path.join(stage, name))
             written.append(name)
+            saved[os.path.join(args.out, name)] = (cal.of, zero)
         with open(os.path.join(stage, f"{base}_diagnose.json"), "w") as fh:
             json.dump(report, fh, indent=1)
         written.append(f"{base}_diagnose.json")
@@ -221,4 +229,4 @@ def _write(args, record, diag, lad, report, fits: dict) -> list[str]:
 
         build_report(stage, shown_as=args.out, plugins=args.plugin)
         written.append("report.html")
-    return [os.path.join(args.out, f) for f in written]
+    return [os.path.join(args.out, f) for f in written], saved

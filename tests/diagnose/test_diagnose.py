@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import CLI, PLUGIN, REPO, cli_env
+import fvd_bridge as fb
 from fvd_bridge import FittedParameter, cli
 from fvd_bridge.diagnose import climb, diagnose, diagnose_settings
 from fvd_bridge.fit import fit_model
@@ -296,6 +297,12 @@ def test_next_lines_run_as_printed(friction_csv, tmp_path, capsys):
     # one test: the verdict says its check was the held-out cycles of that test
     assert "checked on this test's held-out cycles only" in out
     assert str(friction_csv) in again
+    # each calibration file it wrote is listed with the OF the file holds (refitted as calibrate fits)
+    listed = dict(line.strip().split(": OF ") for line in out.split("calibration files")[1].split("\n\n")[0]
+                  .splitlines()[1:])
+    assert listed and shlex.split(export)[3] in listed
+    for path, of in listed.items():
+        assert float(of.split(",")[0]) == pytest.approx(fb.Calibration.load(path).of, rel=1e-3)  # printed to 4 digits
     res = subprocess.run([*CLI, *shlex.split(export)[1:]], capture_output=True, text=True, env=cli_env(),
                          cwd=tmp_path)
     assert res.returncode == 0, res.stderr
