@@ -3,14 +3,19 @@
 algorithm it restates on the n x n normal form: the same iterates, the
 same stopping reason, the same answer, on a nonlinear problem with
 outliers (an interior optimum, and one on a bound), and where the Jacobian
-has a null direction (its QR path)."""
+has a null direction (its QR path); and its trial step (fit/trf_step.py)
+against scipy's helpers, on random problems."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.linalg import svd
 from scipy.optimize import least_squares
+from scipy.optimize._lsq.common import CL_scaling_vector, make_strictly_feasible, solve_lsq_trust_region
+from scipy.optimize._lsq.trf import select_step
 
+from fvd_bridge.fit import trf_step
 from fvd_bridge.fit.trf import least_squares_soft_l1, normal_form, soft_l1_cost
 
 T = np.linspace(0.0, 4.0, 800)
@@ -96,3 +101,72 @@ def test_a_callback_stops_the_solve_where_it_is():
                                          callback=stop_on_third)
     assert status == -2 and len(seen) == 3
     np.testing.assert_array_equal(x, seen[-1])
+
+
+def scipy_trial(x, g, R, qf, scale_inv, lb, ub, Delta, alpha, theta, m):
+    """One trial of scipy's ``trf_bounds`` (tr_solver='exact') with scipy's
+    own helpers, R (n x n) in place of the Jacobian: (x_new, step, step_h,
+    predicted reduction, alpha, whether the trust-region step stays inside)."""
+    n = x.size
+    v, dv = CL_scaling_vector(x, g, lb, ub)
+    v[dv != 0] *= scale_inv[dv != 0]
+    scale = 1 / scale_inv
+    d = v ** 0.5 * scale
+    diag_h = g * dv * scale
+    g_h = d * g
+    J_h = R * d
+    U, s, Vt = svd(np.vstack([J_h, np.diag(diag_h ** 0.5)]), full_matrices=False)
+    uf = U.T.dot(np.concatenate([qf, np.zeros(n)]))
+    p_h, alpha, _ = solve_lsq_trust_region(n, m, uf, s, Vt.T, Delta, initial_alpha=alpha)
+    p = d * p_h
+    inside = bool(np.all((x + p >= lb) & (x + p <= ub)))
+    step, step_h, predicted = select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta, lb, ub, theta)
+    return make_strictly_feasible(x + step, lb, ub, rstep=0), step, step_h, predicted, alpha, inside
+
+
+def random_trial(rng, n, at_bounds):
+    """A trial's inputs: bounds, a point inside them (``at_bounds``: some
+    coordinates near the bound the gradient pushes to, one a float away),
+    a well-conditioned normal form (R, qf) of m residuals, a radius, alpha, theta."""
+    lb = -rng.uniform(0.1, 2.0, n)
+    ub = rng.uniform(0.1, 2.0, n)
+    x = rng.uniform(lb, ub)
+    m = n + int(rng.integers(1, 200))
+    R = np.linalg.qr(rng.standard_normal((2 * n + 2, n)), mode="r") * 10.0 ** rng.uniform(-1.5, 1.0, n)
+    qf = rng.standard_normal(n)
+    g = R.T @ qf
+    if at_bounds:
+        near = np.flatnonzero(rng.random(n) < 0.6)
+        gap = (ub - lb) * 10.0 ** rng.uniform(-4.0, -0.5, n)
+        x[near] = np.where(g < 0, ub - gap, lb + gap)[near]
+        i = near[:1]
+        x[i] = np.where(g[i] < 0, np.nextafter(ub[i], lb[i]), np.nextafter(lb[i], ub[i]))
+    scale_inv = np.sqrt((R ** 2).sum(axis=0)) * 10.0 ** rng.uniform(0.0, 0.5, n)  # at least the column norms
+    Delta = 10.0 ** rng.uniform(-2.0, 2.0)
+    alpha = 0.0 if rng.random() < 0.5 else 10.0 ** rng.uniform(-3.0, 1.0)
+    return x, g, R, qf, scale_inv, lb, ub, Delta, alpha, rng.uniform(0.995, 1.0), m
+
+
+@pytest.mark.parametrize("at_bounds", [False, True], ids=["inside", "at bounds"])
+@pytest.mark.parametrize("n", range(1, 7))
+def test_a_trial_step_is_scipys(n, at_bounds):
+    """``trf_step``'s trial (its model of the iteration, then the step) is
+    scipy's helpers' to 1e-12, on random problems: trust-region steps that
+    stay inside and ones that hit a bound (cut back, reflected, or the
+    scaled gradient's stride)."""
+    rng = np.random.default_rng(100 * n + at_bounds)
+    crossing = 0
+    for _ in range(60):
+        args = random_trial(rng, n, at_bounds)
+        x, g, R, qf, scale_inv, lb, ub, Delta, alpha, theta, m = args
+        *ref, inside = scipy_trial(*args)
+        crossing += not inside
+        model = trf_step.hat_model(x.tolist(), g.tolist(), R, qf, scale_inv.tolist(), lb.tolist(), ub.tolist(), m)
+        x_new, step, step_h, predicted, alpha_new = trf_step.trial_step(x.tolist(), model, Delta, alpha, theta,
+                                                                         lb.tolist(), ub.tolist())
+        # step_h by its norm (the solver's use): a coordinate a float off its bound has d ~ 1e-8, and its
+        # step_h = step / d magnifies the rounding of x there
+        ours = x_new, step, np.linalg.norm(step_h), predicted, alpha_new
+        for a, b in zip(ours, (ref[0], ref[1], np.linalg.norm(ref[2]), ref[3], ref[4])):
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.max(np.abs(b)))
+    assert 0 < crossing < 60 or n == 1  # both kinds (in 1-D a step from a float off a bound lands on it: inside)
