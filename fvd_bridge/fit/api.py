@@ -201,14 +201,15 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
     space = Space.of(b, log)
 
     weights = residual_weights(device, mask)
-    pins = zero_mod.pins(device, weights) if layout.zero else None
-
-    def evaluate(X):
-        of = joint_objective(model, device, layout, space.to_params(X), mask, substeps, weights, pins)
-        return np.where(np.isfinite(of), of, np.inf)
+    terms = residual_terms(device, layout, weights, zero_mod.pins(device, weights) if layout.zero else None)
 
     def residuals(X):
-        return joint_residuals(model, device, layout, space.to_params(X), mask, substeps, weights, pins)
+        return terms_residuals(model, terms, space.to_params(X), substeps)
+
+    def evaluate(X):  # joint_objective's
+        R = residuals(X)
+        of = np.abs(R, out=R).sum(axis=-1)
+        return np.where(np.isfinite(of), of, np.inf)
 
     return mode, b, space, evaluate, residuals
 
@@ -230,13 +231,30 @@ def joint_residuals(model, device, layout, P: np.ndarray, mask=None, substeps: i
     weights = residual_weights(device, mask) if weights is None else weights
     if layout.zero and pins is None:
         pins = zero_mod.pins(device, weights)
-    parts = []
+    return terms_residuals(model, residual_terms(device, layout, weights, pins), P, substeps)
+
+
+def residual_terms(device, layout, weights: list, pins: list | None) -> list:
+    """Per test of nonzero weight, what its residuals take (``joint_residuals``;
+    a fit's, once): (the test, its model vector's columns of the fitted vector
+    (None: all, in order), w_k c, its force zero's pin (None: not fitted))."""
+    terms = []
     for k, (test, c) in enumerate(zip(device.tests, weights)):
-        if c is None:
-            continue
-        e = model.force(test, layout.for_test(P, k), substeps)  # a new array: the steps below work in it
+        if c is not None:
+            columns = layout.columns(k)
+            terms.append((test, None if columns == list(range(len(layout.names))) else columns, c,
+                          pins[k] if layout.zero else None))
+    return terms
+
+
+def terms_residuals(model, terms: list, P: np.ndarray, substeps: int = 1) -> np.ndarray:
+    """``joint_residuals`` from its ``residual_terms``."""
+    parts = []
+    for test, columns, c, pin in terms:
+        own = P if columns is None else np.atleast_2d(P)[:, columns]  # the test's model vectors
+        e = model.force(test, own, substeps)  # a new array: the steps below work in it
         e -= test.F
-        e = pins[k].remove(e) if layout.zero else e
+        e = pin.remove(e) if pin is not None else e
         e *= c
         parts.append(e)
     return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
