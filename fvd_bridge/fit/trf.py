@@ -18,17 +18,18 @@ a step run on Python floats (``fit.trf_step``): scipy spends about
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize._lsq.common import check_termination, make_strictly_feasible, update_tr_radius
+from scipy.optimize._lsq.common import check_termination, update_tr_radius
 
 from ..kernel_cache import kernel_array
 from . import trf_kernels as kernels
-from .trf_step import hat_model, initial_radius, jac_scale_inv, norm, optimality, trial_step
+from .trf_step import hat_model, initial_radius, jac_scale_inv, make_strictly_feasible, norm, optimality, trial_step
 
 
 def strictly_inside(x, lb, ub) -> np.ndarray:
     """x moved off any bound it lies on (scipy's ``make_strictly_feasible``):
     where the solver starts from x."""
-    return make_strictly_feasible(np.asarray(x, dtype=float), lb, ub)
+    return np.array(make_strictly_feasible(np.asarray(x, dtype=float).tolist(), np.asarray(lb, dtype=float).tolist(),
+                                           np.asarray(ub, dtype=float).tolist()))
 
 
 def soft_l1_cost(r: np.ndarray, f_scale: float) -> float:
@@ -69,7 +70,9 @@ def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, *, max_nfev: int,
     r, JT = _evaluate(fun_jac, x)
     m = r.size
     nfev = 1
-    cost = kernels.soft_l1_cost(r, f_scale)[0]
+    cost, finite = kernels.soft_l1_cost(r, f_scale)
+    if not finite:
+        raise ValueError("the residuals are not finite at x0")
     R, qf, g, norms = loss_model(r, JT, f_scale)
     xl = x.tolist()  # the iterate, as floats
     scale_inv = jac_scale_inv(norms)

@@ -284,15 +284,23 @@ def select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta: float, lb, ub, theta: flo
     return ag, ag_h, -ag_value
 
 
-def make_strictly_feasible(x, lb, ub) -> list:
-    """x with a coordinate on (or beyond) a bound moved to the next float
-    inside (scipy's ``make_strictly_feasible``, rstep=0)."""
+def make_strictly_feasible(x, lb, ub, rstep: float = 1e-10) -> list:
+    """x with a coordinate on or near a bound (within rstep of it, relative to
+    the bound's size if above 1) moved that far inside, to the next float
+    inside for rstep=0, and to the middle where the bounds are closer
+    (scipy's ``make_strictly_feasible`` and ``find_active_constraints``)."""
     out = []
     for xi, lo, hi in zip(x, lb, ub):
-        if xi >= hi:  # scipy's find_active_constraints(rtol=0): the upper bound wins
-            xi = math.nextafter(hi, lo)
-        elif xi <= lo:
-            xi = math.nextafter(lo, hi)
+        if rstep == 0:
+            lower, upper = xi <= lo, xi >= hi
+        else:
+            lower_dist, upper_dist = xi - lo, hi - xi
+            lower = math.isfinite(lo) and lower_dist <= min(upper_dist, rstep * max(1.0, abs(lo)))
+            upper = math.isfinite(hi) and upper_dist <= min(lower_dist, rstep * max(1.0, abs(hi)))
+        if upper:  # the upper bound wins
+            xi = math.nextafter(hi, lo) if rstep == 0 else hi - rstep * max(1.0, abs(hi))
+        elif lower:
+            xi = math.nextafter(lo, hi) if rstep == 0 else lo + rstep * max(1.0, abs(lo))
         out.append(0.5 * (lo + hi) if xi < lo or xi > hi else xi)
     return out
 
@@ -305,5 +313,5 @@ def trial_step(x, model: HatModel, Delta: float, alpha: float, theta: float, lb,
     p = [a * b for a, b in zip(model.d, p_h)]
     step, step_h, predicted_reduction = select_step(x, model.J_h, model.diag_h, model.g_h, p, p_h, model.d, Delta,
                                                     lb, ub, theta)
-    x_new = make_strictly_feasible([a + b for a, b in zip(x, step)], lb, ub)
+    x_new = make_strictly_feasible([a + b for a, b in zip(x, step)], lb, ub, rstep=0)
     return x_new, step, step_h, predicted_reduction, alpha

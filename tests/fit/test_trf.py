@@ -170,3 +170,19 @@ def test_a_trial_step_is_scipys(n, at_bounds):
         for a, b in zip(ours, (ref[0], ref[1], np.linalg.norm(ref[2]), ref[3], ref[4])):
             np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.max(np.abs(b)))
     assert 0 < crossing < 60 or n == 1  # both kinds (in 1-D a step from a float off a bound lands on it: inside)
+
+
+@pytest.mark.parametrize("rstep", [1e-10, 0.0])
+def test_moving_inside_is_scipys(rstep):
+    """``trf_step.make_strictly_feasible`` (where a solve starts, rstep
+    1e-10; where a trial lands, 0) is scipy's, bit for bit: points on their
+    bounds, beyond them, within rstep of them, and between bounds closer
+    than that."""
+    rng = np.random.default_rng(7)
+    lb = rng.uniform(-3.0, 1.0, 400)
+    ub = lb + np.where(rng.random(400) < 0.1, 1e-12, rng.uniform(0.0, 2.0, 400))
+    x = rng.uniform(lb - 0.5, ub + 0.5)
+    x[::4], x[1::4] = lb[::4], ub[1::4]
+    x[2::8] = lb[2::8] + 1e-11
+    ours = trf_step.make_strictly_feasible(x.tolist(), lb.tolist(), ub.tolist(), rstep)
+    np.testing.assert_array_equal(ours, make_strictly_feasible(x, lb, ub, rstep=rstep))
