@@ -22,7 +22,8 @@ from scipy.optimize._lsq.common import check_termination, update_tr_radius
 
 from ..kernel_cache import kernel_array
 from . import trf_kernels as kernels
-from .trf_step import hat_model, initial_radius, jac_scale_inv, make_strictly_feasible, norm, optimality, trial_step
+from .trf_step import (cl_scaling_vector, hat_model, initial_radius, jac_scale_inv, make_strictly_feasible, norm,
+                       optimality, trial_step)
 
 
 def strictly_inside(x, lb, ub) -> np.ndarray:
@@ -77,14 +78,15 @@ def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, *, max_nfev: int,
     xl = x.tolist()  # the iterate, as floats
     scale_inv = jac_scale_inv(norms)
     alpha, status = 0.0, None
-    Delta = initial_radius(xl, g, scale_inv, lo, hi)
+    Delta = initial_radius(xl, *cl_scaling_vector(xl, g, lo, hi), scale_inv)
     while True:
-        g_norm = optimality(xl, g, lo, hi)
+        v, dv = cl_scaling_vector(xl, g, lo, hi)
+        g_norm = optimality(g, v)
         if g_norm < gtol:
             status = 1
         if status is not None or nfev == max_nfev:
             break
-        model = hat_model(xl, g, R, qf, scale_inv, lo, hi, m)
+        model = hat_model(v, dv, g, R, qf, scale_inv, m)
         theta = max(0.995, 1.0 - g_norm)
         actual_reduction = -1.0
         while actual_reduction <= 0 and nfev < max_nfev:

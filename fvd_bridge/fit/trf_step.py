@@ -1,22 +1,22 @@
-"""One trial step of scipy's trust-region-reflective algorithm, on Python floats.
+"""scipy's trust-region-reflective helpers on Python floats: an iteration's model, its trial steps.
 
 scipy's ``trf_bounds`` (tr_solver='exact') spends about 0.3 ms of Python
 an iteration in its helpers, numpy calls on arrays of n = 1-10 entries.
 Here the helpers are ported function for function
 (``scipy.optimize._lsq.trf`` and ``scipy.optimize._lsq.common``, BSD-3;
 each function names its original), operation for operation, on lists of
-floats, with scipy's SVD (LAPACK's gesdd, called directly): about 20 us
-a trial at n = 2.  Vectors are lists, matrices lists of rows.  (Compiled
-with numba the same step runs in about 8 us, but compiles in 8.5 s on 2
-cores, select_step alone 2.3 s however written: more than a cold start
-can spend.)  tests/fit/test_trf.py holds it to scipy's helpers on random
-problems, to 1e-12.
+floats, with scipy's SVD (LAPACK's gesdd, called directly): about 25 us
+an iteration at n = 2.  Vectors are lists, matrices lists of rows.
+(Compiled with numba the same step runs in about 8 us, but compiles in
+8.5 s on 2 cores, select_step alone 2.3 s however written: more than a
+cold start can spend.)  tests/fit/test_trf.py holds them to scipy's
+helpers on random problems, to 1e-12.
 """
 
 from __future__ import annotations
 
 import math
-from operator import mul
+from operator import add, mul
 from typing import NamedTuple
 
 import numpy as np
@@ -52,6 +52,16 @@ def scaled(a, t: float) -> list:
     return [ai * t for ai in a]
 
 
+def times(a, b) -> list:
+    """a * b, elementwise."""
+    return list(map(mul, a, b))
+
+
+def plus(a, b) -> list:
+    """a + b."""
+    return list(map(add, a, b))
+
+
 def jac_scale_inv(norms, scale_inv_old=None) -> list:
     """The variables' inverse scale under x_scale='jac' from J's column
     norms: the norms, 1 for a zero one, or at least the last ones (scipy's ``compute_jac_scale``)."""
@@ -71,22 +81,20 @@ def cl_scaling_vector(x, g, lb, ub):
     return v, dv
 
 
-def optimality(x, g, lb, ub) -> float:
-    """||g v||_inf: the first-order optimality trf stops on (``trf_bounds``' g_norm)."""
-    v, _ = cl_scaling_vector(x, g, lb, ub)
+def optimality(g, v) -> float:
+    """||g v||_inf: the first-order optimality trf stops on (``trf_bounds``' g_norm; v: ``cl_scaling_vector``'s)."""
     return max(abs(gi * vi) for gi, vi in zip(g, v))
 
 
-def scaled_cl_vector(x, g, scale_inv, lb, ub):
-    """(v, dv): ``cl_scaling_vector`` with v in the variables scaled by
-    x_scale='jac' (its components that are not identically 1; ``trf_bounds``)."""
-    v, dv = cl_scaling_vector(x, g, lb, ub)
-    return [vi * si if dvi != 0 else vi for vi, dvi, si in zip(v, dv, scale_inv)], dv
+def scaled_cl_vector(v, dv, scale_inv) -> list:
+    """``cl_scaling_vector``'s v in the variables scaled by x_scale='jac'
+    (its components that are not identically 1; ``trf_bounds``)."""
+    return [vi * si if dvi != 0 else vi for vi, dvi, si in zip(v, dv, scale_inv)]
 
 
-def initial_radius(x, g, scale_inv, lb, ub) -> float:
+def initial_radius(x, v, dv, scale_inv) -> float:
     """The first trust radius: |x scale_inv / v^1/2|, or 1 if that is 0 (``trf_bounds``)."""
-    v, _ = scaled_cl_vector(x, g, scale_inv, lb, ub)
+    v = scaled_cl_vector(v, dv, scale_inv)
     return norm([xi * si / math.sqrt(vi) for xi, si, vi in zip(x, scale_inv, v)]) or 1.0
 
 
@@ -94,8 +102,7 @@ class HatModel(NamedTuple):
     """The trust-region model of an iteration in the 'hat' variables
     (``trf_bounds``): d, their scaling (Coleman-Li's v^1/2 and
     x_scale='jac''s); diag_h, the diagonal term C = diag(g scale) Jv; g_h,
-    the gradient; J_h = J d (n x n: R d, whose products and norms are J
-    d's); and the SVD U diag(s) V^T of [J_h; diag(diag_h)^1/2] with uf =
+    the gradient; J_h = J d (R d, whose products and norms are J d's); and the SVD U diag(s) V^T of [J_h; diag(diag_h)^1/2] with uf =
     U^T [f; 0]; m residuals."""
 
     d: list
@@ -108,16 +115,17 @@ class HatModel(NamedTuple):
     m: int
 
 
-def hat_model(x, g, R: np.ndarray, qf: np.ndarray, scale_inv, lb, ub, m: int) -> HatModel:
-    """The model at x (gradient g, normal form (R, qf) of m residuals,
-    x_scale='jac''s scale_inv; ``trf_bounds`` before its inner loop)."""
-    v, dv = scaled_cl_vector(x, g, scale_inv, lb, ub)
+def hat_model(v, dv, g, R: np.ndarray, qf: np.ndarray, scale_inv, m: int) -> HatModel:
+    """The model at an iterate (``cl_scaling_vector`` (v, dv) there, gradient
+    g, normal form (R, qf) of m residuals, x_scale='jac''s scale_inv;
+    ``trf_bounds`` before its inner loop)."""
+    v = scaled_cl_vector(v, dv, scale_inv)
     scale = [1.0 / si for si in scale_inv]
     d = [math.sqrt(vi) * sc for vi, sc in zip(v, scale)]  # scipy's v**0.5, which numpy computes as sqrt
     diag_h = [gi * dvi * sc for gi, dvi, sc in zip(g, dv, scale)]
     J_h = R * np.array(d)
     s, V, uf = augmented_svd(J_h, diag_h, qf)
-    return HatModel(d, diag_h, [di * gi for di, gi in zip(d, g)], J_h.tolist(), s, V, uf, m)
+    return HatModel(d, diag_h, times(d, g), J_h.tolist(), s, V, uf, m)
 
 
 def augmented_svd(J_h: np.ndarray, diag_h, qf: np.ndarray):
@@ -145,7 +153,7 @@ def solve_lsq_trust_region(n: int, m: int, uf, s, V, Delta: float, initial_alpha
     """(p, alpha): the trust-region step of radius Delta from the SVD
     (More's method on one SVD; scipy's ``solve_lsq_trust_region``, rtol
     and max_iter its defaults)."""
-    suf = [a * b for a, b in zip(s, uf)]
+    suf = times(s, uf)
     full_rank = m >= n and s[-1] > EPS * m * s[0]
     if full_rank:
         p = [-pi for pi in matvec(V, [a / b for a, b in zip(uf, s)])]
@@ -247,14 +255,14 @@ def select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta: float, lb, ub, theta: flo
     """(step, step_h, predicted reduction): the trust-region step p if
     inside the bounds, else the best of it cut back at the bound, its
     reflection there and the scaled gradient's stride (scipy's ``select_step``)."""
-    if in_bounds([a + b for a, b in zip(x, p)], lb, ub):
+    if in_bounds(plus(x, p), lb, ub):
         return p, p_h, -evaluate_quadratic(J_h, g_h, p_h, diag_h)
     p_stride, hits = step_size_to_bound(x, p, lb, ub)
     r_h = [-a if hit else a for a, hit in zip(p_h, hits)]  # the reflected direction
-    r = [a * b for a, b in zip(d, r_h)]
+    r = times(d, r_h)
     p, p_h = scaled(p, p_stride), scaled(p_h, p_stride)  # restricted to hit the bound
     _, to_tr = intersect_trust_region(p_h, r_h, Delta)
-    to_bound, _ = step_size_to_bound([a + b for a, b in zip(x, p)], r, lb, ub)
+    to_bound, _ = step_size_to_bound(plus(x, p), r, lb, ub)
     r_stride = min(to_bound, to_tr)  # along the reflection: the bounds' or the trust region's crossing first
     if r_stride > 0:
         r_stride_l = (1 - theta) * p_stride / r_stride
@@ -266,11 +274,11 @@ def select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta: float, lb, ub, theta: flo
         a, b, c = build_quadratic_1d(J_h, g_h, r_h, diag_h, s0=p_h)
         r_stride, r_value = minimize_quadratic_1d(a, b, r_stride_l, r_stride_u, c=c)
         r_h = [a * r_stride + b for a, b in zip(r_h, p_h)]
-        r = [a * b for a, b in zip(r_h, d)]
+        r = times(r_h, d)
     p, p_h = scaled(p, theta), scaled(p_h, theta)  # strictly inside
     p_value = evaluate_quadratic(J_h, g_h, p_h, diag_h)
     ag_h = [-a for a in g_h]
-    ag = [a * b for a, b in zip(d, ag_h)]
+    ag = times(d, ag_h)
     to_tr = Delta / norm(ag_h)
     to_bound, _ = step_size_to_bound(x, ag, lb, ub)
     ag_stride = theta * to_bound if to_bound < to_tr else to_tr
@@ -310,8 +318,8 @@ def trial_step(x, model: HatModel, Delta: float, alpha: float, theta: float, lb,
     (radius Delta, Levenberg-Marquardt parameter alpha, step back theta
     from the bounds): (x_new, step, step_h, predicted reduction, alpha)."""
     p_h, alpha = solve_lsq_trust_region(len(x), model.m, model.uf, model.s, model.V, Delta, alpha)
-    p = [a * b for a, b in zip(model.d, p_h)]
+    p = times(model.d, p_h)
     step, step_h, predicted_reduction = select_step(x, model.J_h, model.diag_h, model.g_h, p, p_h, model.d, Delta,
                                                     lb, ub, theta)
-    x_new = make_strictly_feasible([a + b for a, b in zip(x, step)], lb, ub, rstep=0)
+    x_new = make_strictly_feasible(plus(x, step), lb, ub, rstep=0)
     return x_new, step, step_h, predicted_reduction, alpha

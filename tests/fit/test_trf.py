@@ -161,7 +161,8 @@ def test_a_trial_step_is_scipys(n, at_bounds):
         x, g, R, qf, scale_inv, lb, ub, Delta, alpha, theta, m = args
         *ref, inside = scipy_trial(*args)
         crossing += not inside
-        model = trf_step.hat_model(x.tolist(), g.tolist(), R, qf, scale_inv.tolist(), lb.tolist(), ub.tolist(), m)
+        v, dv = trf_step.cl_scaling_vector(x.tolist(), g.tolist(), lb.tolist(), ub.tolist())
+        model = trf_step.hat_model(v, dv, g.tolist(), R, qf, scale_inv.tolist(), m)
         x_new, step, step_h, predicted, alpha_new = trf_step.trial_step(x.tolist(), model, Delta, alpha, theta,
                                                                          lb.tolist(), ub.tolist())
         # step_h by its norm (the solver's use): a coordinate a float off its bound has d ~ 1e-8, and its
