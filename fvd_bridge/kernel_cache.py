@@ -95,6 +95,8 @@ def kernel_array(x) -> np.ndarray:
     type, and a read-only array (a broadcast view, a row of one) is a type
     of its own: passed one, a kernel compiled and cached for writable arrays
     compiles again."""
+    if type(x) is np.ndarray and x.dtype == np.float64 and x.flags.c_contiguous and x.flags.writeable:
+        return x  # already one (most calls: np.require's checks cost more than the kernel's setup)
     return np.require(x, dtype=np.float64, requirements="CW")
 
 

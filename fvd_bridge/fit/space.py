@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -40,18 +41,28 @@ class Space:
         lo, hi = self.bounds[:, 0], self.bounds[:, 1]
         return np.where(lo > 0, lo, hi * LOG_SPAN)
 
+    @cached_property
+    def _mapping(self) -> tuple:
+        """What ``to_params`` needs of the bounds, worked out once: (free,
+        lower, span, log-scaled and free, ln of the log scale's lower end,
+        its span in ln; the last three None without a log-scaled parameter)."""
+        lo, hi = self.bounds[:, 0], self.bounds[:, 1]
+        geo = self.log & self.free
+        if not self.log.any():
+            return self.free, lo, hi - lo, None, None, None
+        llo = np.log(self._log_lo())
+        return self.free, lo, hi - lo, geo, llo, np.log(np.maximum(hi, 1e-300)) - llo
+
     def to_params(self, x: np.ndarray) -> np.ndarray:
         """(..., n) unit-cube points -> parameters (..., n_all)."""
+        free, lo, span, geo, llo, lspan = self._mapping
         x = np.asarray(x, dtype=float)
         full = np.zeros(x.shape[:-1] + (len(self.bounds),))
-        full[..., self.free] = np.clip(x, 0.0, 1.0)
-        lo, hi = self.bounds[:, 0], self.bounds[:, 1]
-        lin = lo + full * (hi - lo)
-        if not self.log.any():
+        full[..., free] = np.clip(x, 0.0, 1.0)
+        lin = lo + full * span
+        if geo is None:
             return lin
-        llo = np.log(self._log_lo())
-        geo = np.exp(llo + full * (np.log(np.maximum(hi, 1e-300)) - llo))
-        return np.where(self.log & self.free, geo, lin)
+        return np.where(geo, np.exp(llo + full * lspan), lin)
 
     def position(self, p: np.ndarray) -> np.ndarray:
         """Parameters (..., n_all) -> their place in [0, 1] between their

@@ -251,7 +251,7 @@ def evaluate_quadratic(J, g, s, diag) -> float:
     return 0.5 * q + dot(s, g)
 
 
-def select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta: float, lb, ub, theta: float):
+def select_step(x, J_h, diag_h, g_h, p, p_h, d, *, Delta: float, lb, ub, theta: float):
     """(step, step_h, predicted reduction): the trust-region step p if
     inside the bounds, else the best of it cut back at the bound, its
     reflection there and the scaled gradient's stride (scipy's ``select_step``)."""
@@ -319,7 +319,7 @@ def trial_step(x, model: HatModel, Delta: float, alpha: float, theta: float, lb,
     from the bounds): (x_new, step, step_h, predicted reduction, alpha)."""
     p_h, alpha = solve_lsq_trust_region(len(x), model.m, model.uf, model.s, model.V, Delta, alpha)
     p = times(model.d, p_h)
-    step, step_h, predicted_reduction = select_step(x, model.J_h, model.diag_h, model.g_h, p, p_h, model.d, Delta,
-                                                    lb, ub, theta)
+    step, step_h, predicted_reduction = select_step(x, model.J_h, model.diag_h, model.g_h, p, p_h, model.d,
+                                                    Delta=Delta, lb=lb, ub=ub, theta=theta)
     x_new = make_strictly_feasible(plus(x, step), lb, ub, rstep=0)
     return x_new, step, step_h, predicted_reduction, alpha

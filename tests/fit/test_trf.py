@@ -120,7 +120,7 @@ def scipy_trial(x, g, R, qf, scale_inv, lb, ub, Delta, alpha, theta, m):
     p_h, alpha, _ = solve_lsq_trust_region(n, m, uf, s, Vt.T, Delta, initial_alpha=alpha)
     p = d * p_h
     inside = bool(np.all((x + p >= lb) & (x + p <= ub)))
-    step, step_h, predicted = select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta, lb, ub, theta)
+    step, step_h, predicted = select_step(x, J_h, diag_h, g_h, p, p_h, d, Delta=Delta, lb=lb, ub=ub, theta=theta)
     return make_strictly_feasible(x + step, lb, ub, rstep=0), step, step_h, predicted, alpha, inside
 
 
