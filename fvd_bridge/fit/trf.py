@@ -39,12 +39,6 @@ def soft_l1_cost(r: np.ndarray, f_scale: float) -> float:
     return kernels.soft_l1_cost(kernel_array(r), float(f_scale))[0]
 
 
-def normal_form(r: np.ndarray, J: np.ndarray, f_scale: float):
-    """(R, Q^T f_s) of residuals r (m,) and Jacobian J (m, n) under the
-    soft-L1 loss, J_s = Q R (J_s, f_s: ``trf_kernels.soft_l1_scales``)."""
-    return loss_model(kernel_array(r), kernel_array(J.T), float(f_scale))[:2]
-
-
 def loss_model(r: np.ndarray, JT: np.ndarray, f_scale: float):
     """(R, Q^T f_s, the gradient J_s^T f_s, J_s's column norms) of kernel
     arrays r (m,) and J^T (n, m): R is the Gram matrix's Cholesky factor

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ..kernel_cache import kernel_array
+
 
 def dominant_period(d: np.ndarray, dt: float) -> float:
     """Period [s] of the strongest spectral line of d (mean removed)."""
@@ -22,7 +24,7 @@ def dominant_period(d: np.ndarray, dt: float) -> float:
 def reversals(d: np.ndarray, hysteresis: float | None = None) -> np.ndarray:
     """Indices where the displacement reverses, ignoring wiggles below ``hysteresis`` [mm]."""
     h = 0.02 * float(np.ptp(d)) if hysteresis is None else hysteresis
-    return _reversals(np.ascontiguousarray(d, dtype=np.float64), float(h))
+    return _reversals(kernel_array(d), float(h))  # one compiled type, a read-only d's too
 
 
 @njit(cache=True)

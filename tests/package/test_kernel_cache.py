@@ -64,15 +64,18 @@ def test_a_read_only_record_runs_the_kernels_compiled_for_a_writable_one():
     """numba compiles a kernel once per argument type, and a read-only array
     (a frozen record, a broadcast parameter row) is a type of its own: the
     laws hand their kernels writable arrays (kernel_cache.kernel_array), so
-    such a record compiles nothing new (an algebraic and a differential law)."""
+    such a record compiles nothing new (an algebraic and a differential law, and
+    the record's reversals)."""
     from fvd_bridge.laws import algebraic, differential, get_law
+    from fvd_bridge.records import cycles
 
     t = np.arange(64) * 0.01
     d, v = 10.0 * np.sin(2 * np.pi * t), 20 * np.pi * np.cos(2 * np.pi * t)
-    kernels = (algebraic._algebraic, differential._lugre_force)
+    kernels = (algebraic._algebraic, differential._lugre_force, cycles._reversals)
     for key in ("2", "9"):
         law = get_law(key)
         law.force(d, v, 0.01, np.array([law.reference]))
+    expected = cycles.reversals(d)
     before = {k.py_func.__name__: list(k.signatures) for k in kernels}
     frozen_d, frozen_v = d.copy(), v.copy()
     frozen_d.setflags(write=False)
@@ -81,6 +84,7 @@ def test_a_read_only_record_runs_the_kernels_compiled_for_a_writable_one():
         law = get_law(key)
         F = law.force(frozen_d, frozen_v, 0.01, np.broadcast_to(np.array(law.reference), (1, len(law.reference))))
         assert np.array_equal(F, law.force(d, v, 0.01, np.array([law.reference])))
+    assert np.array_equal(cycles.reversals(frozen_d), expected)
     assert {k.py_func.__name__: list(k.signatures) for k in kernels} == before
 
 
