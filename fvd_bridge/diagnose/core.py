@@ -176,7 +176,7 @@ class Diagnosis:
         c = self.best if effect is None else self.candidate(effect)
         settings = {"source": "diagnose", "seed": self.inputs.seed, "optimizer": DEFAULT_OPTIMIZER}
         warnings = [] if c.significant else [f"{c.effect} was not credited by diagnose: {c.reason}"]
-        fit = c.zero_fit if self.zero is not None and c.zero_fit is not None else c.fit
+        fit = c.fit_to_write(self.zero is not None)
         return recommended(c.model, fit, self.inputs.record, settings, zero=self.zero is not None,
                            per_test=self.per_test, seed=self.inputs.seed, replicates=intervals, warnings=warnings)
 

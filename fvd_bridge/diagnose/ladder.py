@@ -105,7 +105,7 @@ def recommended_fits(diag, lad=None) -> dict:
         if lad is not None:
             found[d.spec] = (d.model, d.fit, zero)
         zero = zero or d.zero is not None
-        found.update({c.spec: (c.model, c.zero_fit if zero and c.zero_fit is not None else c.fit, zero)
+        found.update({c.spec: (c.model, c.fit_to_write(zero), zero)
                       for c in d.candidates if c.significant})
     return found
 

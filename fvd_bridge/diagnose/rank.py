@@ -108,6 +108,11 @@ class Candidate:
     def spec(self) -> str:
         return self.model.spec
 
+    def fit_to_write(self, zero: bool):
+        """The fit its calibration file is written from: the refit beside the
+        tests' force zero where the diagnosis fitted it (``zero``) and made one."""
+        return self.zero_fit if zero and self.zero_fit is not None else self.fit
+
     def __repr__(self) -> str:
         verdict = "significant" if self.significant else f"not significant: {self.reason}" if self.reason else ""
         return f"<Candidate {self.spec}: OF {self.of:.4g}, {self.improvement:.0%} lower{'; ' + verdict if verdict else ''}>"
