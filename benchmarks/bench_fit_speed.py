@@ -26,7 +26,14 @@ Also, when lmfit is installed (``pip install lmfit``), lmfit's
 start: it calls the same scipy solver through its Parameters.  Prints OF
 (eq. 18) beside time, and the ratios to the scipy peer.
 
-    python benchmarks/bench_fit_speed.py [--repeats 3]
+    python benchmarks/bench_fit_speed.py [--repeats 3] [--pairs 40]
+
+The issue's figure, fb.calibrate against lmfit on the law-2 device, is
+also measured head to head (``--pairs``, 40 by default): the two calls
+alternate, so that both meet the same state of the machine (a best-of
+taken in two blocks a second apart moved the ratio between 1.4x and 4x on
+one machine), and the median of the per-pair ratios is printed with its
+quartiles and the parameter sets each evaluates.
 
 ``--record FILE`` times the same fits on a lab file instead (read as
 ``fvd-bridge`` reads it), e.g. the shared friction damper's 0.5 Hz test
@@ -135,6 +142,46 @@ def lmfit_fit(model, rec, x0, bounds):
     return x, float(objective(rec.F, model.force(rec, x[None, :])[0], rec.t))
 
 
+def head_to_head(rec, law: str, pairs: int) -> str:
+    """fb.calibrate(runs=1, intervals=0) against lmfit, the calls alternating
+    ``pairs`` times: the median per-pair time ratio, its quartiles, and the
+    parameter sets each evaluates (lmfit's residual calls, counted)."""
+    model = parse_model(law)
+    bounds = np.array(model.bounds("auto", rec.scales()), dtype=float)
+    sets = [0]
+
+    def counted(p):
+        sets[0] += 1
+        return plain_force(law, p, rec) - rec.F
+
+    def lmfit_run():
+        import lmfit
+        params = lmfit.Parameters()
+        for name, x, (lo, hi) in zip(model.names, np.clip(start_of(law, rec), bounds[:, 0], bounds[:, 1]), bounds):
+            params.add(name, value=float(x), min=float(lo), max=float(hi))
+        return lmfit.minimize(lambda p: counted(np.array([p[n].value for n in model.names])), params,
+                              method="least_squares")
+
+    ratios, ours, peer = [], [], []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for k in range(pairs + 3):  # the first three warm both up
+            t0 = time.perf_counter()
+            lmfit_run()
+            t1 = time.perf_counter()
+            cal = fb.calibrate(rec, law, runs=1, intervals=0)
+            t2 = time.perf_counter()
+            if k >= 3:
+                peer.append(t1 - t0)
+                ours.append(t2 - t1)
+                ratios.append((t2 - t1) / (t1 - t0))
+    q1, med, q3 = np.percentile(ratios, [25, 50, 75])
+    lmfit_sets = sets[0] // (pairs + 3)
+    return (f"     head to head, {pairs} alternating pairs: fb.calibrate {1e3 * np.median(ours):.1f} ms, lmfit "
+            f"{1e3 * np.median(peer):.1f} ms (medians); the ratio {med:.2f}x (quartiles {q1:.2f}-{q3:.2f}x), "
+            f"OF {cal.of:.5f}; parameter sets: {cal.solver.evaluations} against lmfit's {lmfit_sets}")
+
+
 def overhead(model, rec, wall: float, fit) -> str:
     """Where the default fit's time goes: its parameter sets through the
     kernel (timed in batches of n + 1, as its Jacobians run) and the rest
@@ -161,6 +208,8 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--record", help="a lab file to fit instead of the simulated records")
+    ap.add_argument("--pairs", type=int, default=40,
+                    help="alternating fb.calibrate/lmfit pairs on the law-2 device (0: none; needs lmfit)")
     args = ap.parse_args()
     cases = [("a lab file", read_record(args.record), ("2", "9"))] if args.record else lab_records()
     for what, rec, laws in cases:
@@ -168,6 +217,8 @@ def main() -> None:
         print(f"{'law':>4} {'fit':>34} {'wall [ms]':>10} {'OF':>9} {'x peer time':>12}")
         for law in laws:
             time_law(law, rec, args.repeats)
+            if what == "law-2 device" and args.pairs and importlib.util.find_spec("lmfit") is not None:
+                print(head_to_head(rec, law, args.pairs) + "\n")
 
 
 def time_law(law: str, rec, repeats: int) -> None:

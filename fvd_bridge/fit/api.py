@@ -123,8 +123,11 @@ def fit_model(model, record, *, bounds: str | np.ndarray = "auto", optimizer: st
         widened = {**widened, **more}
         start = fit.values
     wall_s = time.perf_counter() - t0
-    test_of = [evaluate_params(model, t, layout.for_test(fit.values, k)[0], force_zero=force_zero)
-               for k, t in enumerate(device.tests)]
+    if len(device.tests) == 1 and mask is None and not force_zero:  # the fit's OF is its one test's
+        test_of = [fit.of if np.isfinite(fit.of) else float("inf")]
+    else:
+        test_of = [evaluate_params(model, t, layout.for_test(fit.values, k)[0], force_zero=force_zero)
+                   for k, t in enumerate(device.tests)]
     zero = (zero_mod.values(model, device, layout, fit.values, residual_weights(device, mask)) if force_zero
             else None)
     return replace(fit, evaluations=evals, wall_s=wall_s, widened=widened, parent=parent_of, flat_ends=flat,

@@ -51,7 +51,9 @@ from scipy.stats import qmc
 
 from .de import DESettings, polish, run_de
 from .search import Evaluations, Search
+from ..kernel_cache import kernel_array
 from .trf import least_squares_soft_l1, strictly_inside
+from .trf_kernels import forward_differences
 
 
 #: two starts closer than this (unit-cube distance) are one
@@ -224,7 +226,7 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
     count.add(len(X))
     history = [float(np.min(of))]
 
-    last = {}  # the last point's residuals and Jacobian
+    last = {}  # the last point's residuals and Jacobian (transposed)
 
     def fun_jac(x):  # the residuals at x and its forward-difference neighbours, one batch (one SIMD block of
         # the differential laws' kernels: the Jacobian's n points cost about what x's alone does)
@@ -233,14 +235,9 @@ def _local(evaluate, residuals, n, rng, s, on_generation, x0):
             h = np.where(x + FD_STEP <= 1.0, FD_STEP, -FD_STEP)
             R = residuals(np.vstack([x, x[None, :] + np.diag(h)]))
             count.add(n + 1)
-            finite = np.isfinite(R)
-            if finite.all():
-                r, J = R[0], ((R[1:] - R[0]) / h[:, None]).T
-            else:
-                r = np.where(finite[0], R[0], 1e3)
-                J = np.where(finite[1:], (R[1:] - r) / h[:, None], 0.0).T
-            last["x"], last["r"], last["J"], last["finite"] = np.array(x), r, J, finite[0].all()
-        return last["r"], last["J"]
+            r, JT, finite = forward_differences(kernel_array(R), h, 1e3)  # not finite: 1e3, far from 0
+            last["x"], last["r"], last["JT"], last["finite"] = np.array(x), r, JT, finite
+        return last["r"], last["JT"]
 
     def of_at(x):  # eq. 18 at the point the last solve ended on: its residuals' absolute sum, if at hand
         if "x" in last and np.array_equal(last["x"], x) and last["finite"]:

@@ -43,22 +43,26 @@ class Space:
 
     @cached_property
     def _mapping(self) -> tuple:
-        """What ``to_params`` needs of the bounds, worked out once: (free,
-        lower, span, log-scaled and free, ln of the log scale's lower end,
-        its span in ln; the last three None without a log-scaled parameter)."""
+        """What ``to_params`` needs of the bounds, worked out once: (free (None:
+        all), lower, span, log-scaled and free, ln of the log scale's lower
+        end, its span in ln; the last three None without a log-scaled
+        parameter)."""
         lo, hi = self.bounds[:, 0], self.bounds[:, 1]
-        geo = self.log & self.free
+        geo, free = self.log & self.free, None if self.free.all() else self.free
         if not self.log.any():
-            return self.free, lo, hi - lo, None, None, None
+            return free, lo, hi - lo, None, None, None
         llo = np.log(self._log_lo())
-        return self.free, lo, hi - lo, geo, llo, np.log(np.maximum(hi, 1e-300)) - llo
+        return free, lo, hi - lo, geo, llo, np.log(np.maximum(hi, 1e-300)) - llo
 
     def to_params(self, x: np.ndarray) -> np.ndarray:
         """(..., n) unit-cube points -> parameters (..., n_all)."""
         free, lo, span, geo, llo, lspan = self._mapping
         x = np.asarray(x, dtype=float)
-        full = np.zeros(x.shape[:-1] + (len(self.bounds),))
-        full[..., free] = np.clip(x, 0.0, 1.0)
+        if free is None:  # every parameter free: the cube's point is the full vector's
+            full = np.clip(x, 0.0, 1.0)
+        else:
+            full = np.zeros(x.shape[:-1] + (len(self.bounds),))
+            full[..., free] = np.clip(x, 0.0, 1.0)
         lin = lo + full * span
         if geo is None:
             return lin

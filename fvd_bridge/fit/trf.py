@@ -55,7 +55,8 @@ def loss_model(r: np.ndarray, JT: np.ndarray, f_scale: float):
 def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, *, max_nfev: int, xtol: float = 1e-8,
                           ftol: float = 1e-8, gtol: float = 1e-8, callback=None):
     """Minimise 0.5 sum rho(r(x)) over lb <= x <= ub from x0.  ``fun_jac(x)
-    -> (r (m,), J (m, n))`` (the residuals must be finite at x0);
+    -> (r (m,), J^T (n, m))``, the Jacobian transposed (the residuals must
+    be finite at x0);
     ``callback(x)`` after each iteration may raise StopIteration to stop.
     Returns (x, status, nfev) with scipy's status codes (0: max_nfev, 1-4:
     gtol, ftol, xtol, both; -2: stopped by the callback)."""
@@ -117,5 +118,5 @@ def least_squares_soft_l1(fun_jac, x0, lb, ub, f_scale: float, *, max_nfev: int,
 
 def _evaluate(fun_jac, x: np.ndarray):
     """(r, J^T) at x as kernel arrays."""
-    r, J = fun_jac(x)
-    return kernel_array(r), kernel_array(J.T)
+    r, JT = fun_jac(x)
+    return kernel_array(r), kernel_array(JT)

@@ -1,4 +1,4 @@
-"""The compiled passes of ``fit.trf`` over the m residuals: the soft-L1 cost and the normal equations.
+"""The compiled passes of ``fit.trf`` over the m residuals: the soft-L1 cost, the normal equations, the forward differences.
 
 A solver's evaluation makes a pass over the record's m samples for the
 cost and, accepted, one for the normal equations J_s^T J_s, J_s^T f_s of
@@ -78,6 +78,25 @@ def normal_equations(r, JT, f_scale):
             total += JT[i, k] * u[k]
         g[i] = total
     return G, g
+
+
+@kernel
+def forward_differences(R, h, fill):
+    """(r (m,), J^T (n, m), whether r is finite) from the residuals R (n + 1,
+    m) at a point (row 0) and at its neighbours x + h_i e_i: J_ik = (R_i+1,k
+    - r_k) / h_i, a residual not finite at the point taken as ``fill``,
+    one not finite at a neighbour giving J_ik = 0 (no slope known there)."""
+    n, m = h.size, R.shape[1]
+    r, JT = np.empty(m), np.empty((n, m))
+    finite = True
+    for k in range(m):
+        ok = np.isfinite(R[0, k])
+        r[k] = R[0, k] if ok else fill
+        finite &= ok
+    for i in range(n):
+        for k in range(m):
+            JT[i, k] = (R[i + 1, k] - r[k]) / h[i] if np.isfinite(R[i + 1, k]) else 0.0
+    return r, JT, finite
 
 
 @sample_pass

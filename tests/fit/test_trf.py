@@ -45,7 +45,7 @@ def test_the_iterates_are_scipys(truth, x0, f_scale):
     y = data(truth)
     ref = least_squares(lambda x: decay(x) - y, x0, jac=decay_jac, bounds=(0.0, 1.0), loss="soft_l1",
                         f_scale=f_scale, x_scale="jac", max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10)
-    x, status, nfev = least_squares_soft_l1(lambda x: (decay(x) - y, decay_jac(x)), x0, np.zeros(3), np.ones(3),
+    x, status, nfev = least_squares_soft_l1(lambda x: (decay(x) - y, decay_jac(x).T), x0, np.zeros(3), np.ones(3),
                                             f_scale, max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10)
     assert (nfev, status) == (ref.nfev, ref.status)
     np.testing.assert_allclose(x, ref.x, atol=1e-9)
@@ -72,7 +72,7 @@ def test_a_null_direction_takes_the_qr_path_and_the_same_answer():
     np.testing.assert_allclose(R.T @ R, _scaled_gram(fun(x0), jac(x0), 0.05), atol=1e-10 * np.abs(R.T @ R).max())
     ref = least_squares(fun, x0, jac=jac, bounds=(0.0, 1.0), loss="soft_l1", f_scale=0.05, x_scale="jac",
                         max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10)
-    x, _, _ = least_squares_soft_l1(lambda x: (fun(x), jac(x)), x0, np.zeros(4), np.ones(4), 0.05,
+    x, _, _ = least_squares_soft_l1(lambda x: (fun(x), jac(x).T), x0, np.zeros(4), np.ones(4), 0.05,
                                     max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10)
     assert soft_l1_cost(fun(x), 0.05) == pytest.approx(ref.cost, rel=1e-8)
     assert x[2] + x[3] == pytest.approx(ref.x[2] + ref.x[3], abs=1e-6)
@@ -97,7 +97,7 @@ def test_a_callback_stops_the_solve_where_it_is():
         if len(seen) == 3:
             raise StopIteration
 
-    x, status, _ = least_squares_soft_l1(lambda x: (decay(x) - y, decay_jac(x)), (0.1, 0.9, 0.9), np.zeros(3),
+    x, status, _ = least_squares_soft_l1(lambda x: (decay(x) - y, decay_jac(x).T), (0.1, 0.9, 0.9), np.zeros(3),
                                          np.ones(3), 0.05, max_nfev=40, xtol=1e-10, ftol=1e-10, gtol=1e-10,
                                          callback=stop_on_third)
     assert status == -2 and len(seen) == 3
