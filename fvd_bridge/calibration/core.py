@@ -326,7 +326,7 @@ class Calibration(Reach):
             tests.append(TestFit(test.name, float(w), float(test_of[k]), tested_range(test), record_provenance(test),
                                  {m: float(p[model.names.index(m)]) for m in layout.free}))
         return cls(model=model, values=np.asarray(fit.values, dtype=float)[:n], of=float(fit.of),
-                   bounds=np.asarray(fit.bounds, dtype=float)[:n], record=record_provenance(device.tests[0]),
+                   bounds=np.asarray(fit.bounds, dtype=float)[:n], record=tests[0].record,
                    settings=dict(settings or {}), warnings=list(warnings), runs=RunStats.from_dict(runs, n),
                    tests=tuple(tests),
                    device=device.name,

@@ -34,12 +34,20 @@ def _fast(v: np.ndarray) -> np.ndarray:
     return np.abs(v) >= np.median(np.abs(v))
 
 
+def _line(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
+    """(slope, intercept) of the least-squares line y = slope x + intercept
+    (closed form; np.polyfit's SVD costs 4x more at these sizes)."""
+    dx = x - x.mean()
+    slope = float(np.dot(dx, y - y.mean()) / max(np.dot(dx, dx), 1e-300))
+    return slope, float(y.mean() - slope * x.mean())
+
+
 def power_term(v: np.ndarray, F: np.ndarray) -> tuple[float, float]:
     """(C, alpha) of F = C sign(v)|v|^alpha from the fastest half of the samples."""
     fast = _fast(v) & (np.abs(v) > 0)
     if fast.sum() < 2:
         return float(np.mean(np.abs(F))), 1.0
-    alpha, log_c = np.polyfit(np.log(np.abs(v[fast])), np.log(np.maximum(np.abs(F[fast]), 1e-9)), 1)
+    alpha = _line(np.log(np.abs(v[fast])), np.log(np.maximum(np.abs(F[fast]), 1e-9)))[0]
     alpha = float(np.clip(alpha, 0.05, 1.0))
     return float(np.median(np.abs(F[fast]) / np.abs(v[fast]) ** alpha)), alpha
 
@@ -49,14 +57,14 @@ def spring(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> float:
     slow = _slow(v)
     if np.ptp(d[slow]) <= 0:
         return 0.0
-    return max(float(np.polyfit(d[slow], F[slow], 1)[0]), 0.0)
+    return max(_line(d[slow], F[slow])[0], 0.0)
 
 
 def speed_line(v: np.ndarray, F: np.ndarray) -> tuple[float, float]:
     """(a [kN], b [kN/(mm/s)]) of the line |F| = a + b |v| over the fastest half of the samples."""
     fast = _fast(v)
-    b, a = np.polyfit(np.abs(v[fast]), np.abs(F[fast]), 1)
-    return float(a), float(b)
+    b, a = _line(np.abs(v[fast]), np.abs(F[fast]))
+    return a, b
 
 
 def hysteretic(d: np.ndarray, v: np.ndarray, F: np.ndarray) -> list[tuple[float, float, float]]:

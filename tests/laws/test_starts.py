@@ -70,3 +70,12 @@ def test_a_connection_with_play_hides_the_friction_at_the_reversals_not_at_speed
     assert C1 == pytest.approx(0.02, rel=0.1)
     model = parse_model("8")
     assert fit_model(model, rec, seed=0).of <= fit_model(model, rec, optimizer="de", seed=0).of * 1.01
+
+
+def test_the_closed_form_line_is_numpys_least_squares_line():
+    """starts._line against np.polyfit (an SVD least squares): slope and intercept agree to round-off."""
+    from fvd_bridge.laws.starts import _line
+    rng = np.random.default_rng(3)
+    x = rng.uniform(1.0, 6.0, 400)
+    y = 0.37 * x - 2.1 + 0.2 * rng.standard_normal(400)
+    np.testing.assert_allclose(_line(x, y), np.polyfit(x, y, 1), rtol=1e-10)
