@@ -105,8 +105,9 @@ def _split_unit(cell: str) -> tuple[str, str | None]:
 
 def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> tuple[dict, dict, dict]:
     """Header position of each wanted column (by its cell, or its name
-    without the unit), and the units the header gives (unless --units or
-    the sidecar does); v is optional, t may come from dt."""
+    without the unit), and the units the header gives (--units and the
+    sidecar win over them, noted where they differ: ``readers.unit_overrides``);
+    v is optional, t may come from dt."""
     wanted = {"t": "t", "d": "d", "F": "F", **opts.columns}
     bare = [_split_unit(h) for h in header]
     index, names, units = {}, {}, {}
@@ -128,9 +129,11 @@ def _locate(path: str, header_no: int, header: list[str], opts: ReadOptions) -> 
             index["v"], names["v"] = found, header[found]
     for key, i in index.items():
         text = bare[i][1]
-        if text is None or key in opts.units:
+        if text is None:
             continue
         unit = unit_name(key, text)
+        if unit is None and key in opts.units:
+            continue  # the caller's unit stands for one the table does not know
         if unit is None:
             raise InputError(f"{path}: row {header_no}, column '{header[i]}': unknown unit '{text}' for {key} "
                              f"(known: {', '.join(FACTORS[key])}); give it with "

@@ -10,7 +10,9 @@ record file::
     dt: 0.01                                # [s], when there is no time column
     force_sign: flip                        # the load cell reads the opposite sign
 
-Options given explicitly win over the sidecar, key by key.
+Options given explicitly win over the sidecar, key by key; a unit that
+replaces another the file states (its sidecar's, its header's) by a
+different factor is noted on reading (``readers.unit_overrides``).
 """
 
 from __future__ import annotations
@@ -53,7 +55,8 @@ class ReadOptions:
     d (``--columns v=none``); ``force_sign``: None (loops that generate
     energy are doubted, validate.reversed_force_note), "flip" (F negated) or
     "keep" (F as read, not doubted).  ``sidecar`` is the YAML file the
-    options were completed from, if any.
+    options were completed from, if any, and ``sidecar_units`` the units
+    it states (those ``units`` replaced are noted on reading).
     """
 
     columns: dict = field(default_factory=dict)
@@ -65,6 +68,7 @@ class ReadOptions:
     derive_velocity: bool = False
     force_sign: str | None = None
     sidecar: str | None = None
+    sidecar_units: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """The options a user gave (the sidecar completes them again on reading)."""
@@ -118,7 +122,7 @@ def with_sidecar(path: str, opts: ReadOptions) -> ReadOptions:
         mat_var=opts.mat_var if opts.mat_var is not None else data.get("mat_var"),
         dt=opts.dt if opts.dt is not None else data.get("dt"),
         force_sign=opts.force_sign if opts.force_sign is not None else data.get("force_sign"),
-        sidecar=side)
+        sidecar=side, sidecar_units=dict(data.get("units", {})))
 
 
 def _load_sidecar(side: str) -> dict:

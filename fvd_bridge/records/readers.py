@@ -197,6 +197,7 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
             f"{k} [{CANONICAL[k]}]" for k in ("t", "d", "F", "v") if k in raw.data)
             + f"; give the units ({option('--units', Given(d='m', F='N'))}, e.g.), a sidecar or a header such "
             f"as 'F [N]'")
+    notes += unit_overrides(path, raw, opts)
     notes += validate.unit_notes(path, dt, raw.names)
     notes += validate.rest_offset_note(path, t, conv["d"], conv["F"], raw.names)
     prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
@@ -220,6 +221,24 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
     rec.provenance["doubts"] = doubts
     rec.warnings[:0] = doubts
     return rec
+
+
+def unit_overrides(path: str, raw: RawColumns, opts: ReadOptions) -> list[str]:
+    """A note per column read in a unit other than the one the file states
+    (its sidecar's, replaced by the caller's; its header's, replaced by the
+    caller's or the sidecar's) by a different factor: the reading follows
+    the caller, visibly (a file in in/kip read as mm/kN is a plausible
+    small damper that no later check can tell apart)."""
+    notes = []
+    side = f"its sidecar {os.path.basename(opts.sidecar)}" if opts.sidecar else ""
+    for states, units in ((side, opts.sidecar_units), ("its header", raw.units)):
+        for key, unit in units.items():
+            used = opts.units.get(key, unit)
+            if key in raw.names and factor(key, used) != factor(key, unit):
+                by = side if opts.sidecar_units.get(key) == used else option("--units", Given({key: used}))
+                notes.append(f"{path}: column '{raw.names[key]}' read in {used} ({by}) where {states} says {unit}, "
+                             f"a factor {factor(key, unit) / factor(key, used):.4g} apart: check which is right")
+    return notes
 
 
 def _early_doubts(path: str, raw: RawColumns, opts: ReadOptions, conv: dict, stated: dict) -> list[str]:

@@ -84,9 +84,15 @@ def test_csv_other_names_and_units_by_sidecar(tmp_path, write_csv):
     np.testing.assert_allclose(rec.F, s["F"], rtol=1e-8)
     assert rec.provenance["sidecar"].endswith("lab.yaml")
     # an explicit option wins over the sidecar, key by key
-    rec2 = read_quiet(path, ReadOptions(units={"F": "kN"}))
+    with pytest.warns(RecordWarning, match="read in kN"):
+        rec2 = read_record(str(path), ReadOptions(units={"F": "kN"}))
     np.testing.assert_allclose(rec2.F, s["F"] / 4.4482216, rtol=1e-8)
     np.testing.assert_allclose(rec2.d, s["d"], atol=1e-8)
+    # ... visibly: the column replaced is noted, with the factor between the two units; the others are not
+    notes = [w for w in rec2.warnings if "apart" in w]
+    assert len(notes) == 1 and "column 'load' read in kN" in notes[0] and "sidecar lab.yaml says kip" in notes[0]
+    assert "a factor 4.448 apart" in notes[0]
+    assert not [w for w in read_quiet(path, ReadOptions(units={"F": "kip", "d": "cm"})).warnings if "apart" in w]
 
 
 def test_unit_conversion_hand_values(write_csv):

@@ -113,6 +113,7 @@ def test_header_units_are_read_and_never_second_guessed(friction):
     # the caller's --units wins over the header
     rec = read(folder / "bracket.csv", ReadOptions(units={"F": "kN"}))
     assert rec.scales()["F"] == pytest.approx(1e3 * reference.scales()["F"])
+    assert [w for w in rec.warnings if "column 'F [N]' read in kN" in w and "its header says N, a factor 0.001" in w]
 
 
 def test_a_header_unit_the_table_does_not_know_is_one_line(friction, tmp_path):
