@@ -307,7 +307,8 @@ class Calibration(Reach):
         settings : dict, optional
             The fit's settings, kept as provenance.
         warnings : sequence of str
-            The fit's warnings.
+            The fit's warnings (the tests' unit overrides, read from their
+            provenance, follow them: ``records.readers.unit_overrides``).
         runs : RunStats or dict, optional
             Statistics over repeated runs: {of_mean, of_sigma, p_mean, p_sigma}
             (the parameter vectors may hold the per-test columns after the model's).
@@ -327,7 +328,8 @@ class Calibration(Reach):
                                  {m: float(p[model.names.index(m)]) for m in layout.free}))
         return cls(model=model, values=np.asarray(fit.values, dtype=float)[:n], of=float(fit.of),
                    bounds=np.asarray(fit.bounds, dtype=float)[:n], record=tests[0].record,
-                   settings=dict(settings or {}), warnings=list(warnings), runs=RunStats.from_dict(runs, n),
+                   settings=dict(settings or {}), runs=RunStats.from_dict(runs, n),
+                   warnings=list(warnings) + [w for t in device.tests for w in t.provenance.get("unit_overrides", [])],
                    tests=tuple(tests),
                    device=device.name,
                    intervals=None if intervals is None else BootstrapIntervals.from_dict(intervals.as_dict()),

@@ -209,9 +209,8 @@ def _problem(model, device, layout, bounds, overrides=None, mask=None, substeps:
     def residuals(X):
         return terms_residuals(model, terms, space.to_params(X), substeps)
 
-    def evaluate(X):  # joint_objective's
-        R = residuals(X)
-        of = np.abs(R, out=R).sum(axis=-1)
+    def evaluate(X):
+        of = absolute_sum(residuals(X))
         return np.where(np.isfinite(of), of, np.inf)
 
     return mode, b, space, evaluate, residuals
@@ -267,7 +266,11 @@ def joint_objective(model, device, layout, P: np.ndarray, mask=None, substeps: i
                     weights: list | None = None, pins: list | None = None) -> np.ndarray:
     """Eq. 18 on each test, weighted by the device's weights: (pop,) for P (pop, n_cols).
     ``mask``: one boolean array (a single test) or a list (per test, None: all samples)."""
-    R = joint_residuals(model, device, layout, P, mask, substeps, weights, pins)
+    return absolute_sum(joint_residuals(model, device, layout, P, mask, substeps, weights, pins))
+
+
+def absolute_sum(R: np.ndarray) -> np.ndarray:
+    """Eq. 18 of weighted residuals R (pop, m): sum |R| per row (pop,); R is overwritten."""
     return np.abs(R, out=R).sum(axis=-1)
 
 

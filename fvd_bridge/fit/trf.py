@@ -34,11 +34,6 @@ def strictly_inside(x, lb, ub) -> np.ndarray:
                                            np.asarray(ub, dtype=float).tolist()))
 
 
-def soft_l1_cost(r: np.ndarray, f_scale: float) -> float:
-    """0.5 sum rho(r), rho(r) = 2 f_scale^2 (sqrt(1 + (r/f_scale)^2) - 1): scipy's soft-L1 cost."""
-    return kernels.soft_l1_cost(kernel_array(r), float(f_scale))[0]
-
-
 def loss_model(r: np.ndarray, JT: np.ndarray, f_scale: float):
     """(R, Q^T f_s, the gradient J_s^T f_s, J_s's column norms) of kernel
     arrays r (m,) and J^T (n, m): R is the Gram matrix's Cholesky factor

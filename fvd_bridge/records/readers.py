@@ -197,8 +197,8 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
             f"{k} [{CANONICAL[k]}]" for k in ("t", "d", "F", "v") if k in raw.data)
             + f"; give the units ({option('--units', Given(d='m', F='N'))}, e.g.), a sidecar or a header such "
             f"as 'F [N]'")
-    notes += unit_overrides(path, raw, opts)
-    notes += validate.unit_notes(path, dt, raw.names)
+    overrides = unit_overrides(path, raw, opts)
+    notes += overrides + validate.unit_notes(path, dt, raw.names)
     notes += validate.rest_offset_note(path, t, conv["d"], conv["F"], raw.names)
     prov = {"file": os.path.abspath(path), "format": "mat" if path.lower().endswith(".mat") else "csv",
             "columns": dict(raw.names), "units": units, "factors": factors,
@@ -206,6 +206,8 @@ def _assemble(path: str, raw: RawColumns, opts: ReadOptions, name: str | None) -
             "velocity": vel, "cycles": round(n_cycles, 2)}
     if raw.units:
         prov["header_units"] = dict(raw.units)
+    if overrides:  # carried into a calibration's warnings (Calibration.from_fit)
+        prov["unit_overrides"] = overrides
     if opts.mat_var is not None and prov["format"] == "mat":
         prov["mat_var"] = opts.mat_var
     if opts.sidecar:

@@ -127,3 +127,26 @@ def test_a_one_model_campaign_keeps_the_settings_its_request_gives():
     assert "force_zero" not in FitRequest(spec="2").as_settings()  # written only when per-test, as before
     named = CampaignSettings(specs=("2", "9"), bound_overrides=(("9", "beta", 40.0, 40.0),)).as_dict()
     assert named["bound_overrides"] == [["9", "beta", 40.0, 40.0]] and named["specs"] == ["2", "9"]
+
+
+def test_a_unit_that_contradicts_the_sidecar_is_in_the_calibrations_warnings(rec, tmp_path):
+    """A file in kN whose sidecar wrongly says kip, read with units F=kN: the
+    reading follows the caller (C comes out near the rig's 45, not 45/4.448),
+    and the contradiction, warned of on reading, is one of the calibration's
+    warnings, in the file it saves too (where the result is read)."""
+    from fvd_bridge.records import read_record
+    from fvd_bridge.records.options import ReadOptions
+    from fvd_bridge.records.writers import write_csv
+
+    path = tmp_path / "sn045.csv"
+    write_csv(rec, str(path))
+    (tmp_path / "sn045.yaml").write_text("units: {F: kip}\n")
+    with pytest.warns(fb.RecordWarning, match="read in kN"):
+        read = read_record(str(path), ReadOptions(units={"F": "kN"}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = fb.calibrate(read, "2", runs=1, intervals=0)
+    assert cal.named()["C"] == pytest.approx(45.0, rel=0.05)
+    noted = [w for w in cal.warnings if "where its sidecar sn045.yaml says kip, a factor 4.448 apart" in w]
+    assert len(noted) == 1
+    assert noted[0] in fb.Calibration.load(cal.save(str(tmp_path / "cal.yaml"))).warnings
