@@ -127,8 +127,16 @@ def peer_fit(model, rec, x0, bounds):
 
 
 def lmfit_fit(model, rec, x0, bounds):
-    """lmfit's ``minimize(method='least_squares')`` (the issue's peer) on the same
-    residuals from the same start; None when lmfit is not installed."""
+    """(parameters, OF) of lmfit's ``minimize(method='least_squares')`` (the
+    issue's peer) on the same residuals from the same start."""
+    out = lmfit_minimize(model, rec, x0, bounds)
+    x = np.array([out.params[n].value for n in model.names])
+    return x, float(objective(rec.F, model.force(rec, x[None, :])[0], rec.t))
+
+
+def lmfit_minimize(model, rec, x0, bounds, calls: list | None = None):
+    """lmfit's fit itself (its MinimizerResult; ``calls``: a one-item list its
+    residual calls are counted in)."""
     import lmfit
 
     params = lmfit.Parameters()
@@ -136,10 +144,10 @@ def lmfit_fit(model, rec, x0, bounds):
         params.add(name, value=float(x), min=float(lo), max=float(hi))
 
     def residuals(p):
+        if calls is not None:
+            calls[0] += 1
         return plain_force(model.spec, np.array([p[n].value for n in model.names]), rec) - rec.F
-    out = lmfit.minimize(residuals, params, method="least_squares")
-    x = np.array([out.params[n].value for n in model.names])
-    return x, float(objective(rec.F, model.force(rec, x[None, :])[0], rec.t))
+    return lmfit.minimize(residuals, params, method="least_squares")
 
 
 def head_to_head(rec, law: str, pairs: int) -> str:
@@ -149,25 +157,12 @@ def head_to_head(rec, law: str, pairs: int) -> str:
     model = parse_model(law)
     bounds = np.array(model.bounds("auto", rec.scales()), dtype=float)
     sets = [0]
-
-    def counted(p):
-        sets[0] += 1
-        return plain_force(law, p, rec) - rec.F
-
-    def lmfit_run():
-        import lmfit
-        params = lmfit.Parameters()
-        for name, x, (lo, hi) in zip(model.names, np.clip(start_of(law, rec), bounds[:, 0], bounds[:, 1]), bounds):
-            params.add(name, value=float(x), min=float(lo), max=float(hi))
-        return lmfit.minimize(lambda p: counted(np.array([p[n].value for n in model.names])), params,
-                              method="least_squares")
-
     ratios, ours, peer = [], [], []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for k in range(pairs + 3):  # the first three warm both up
             t0 = time.perf_counter()
-            lmfit_run()
+            lmfit_minimize(model, rec, start_of(law, rec), bounds, sets)
             t1 = time.perf_counter()
             cal = fb.calibrate(rec, law, runs=1, intervals=0)
             t2 = time.perf_counter()
