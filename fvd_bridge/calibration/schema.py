@@ -15,6 +15,7 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
       C: {value, unit, bounds: [lo, hi], mean_over_runs, sigma_over_runs,
           stderr, ci95: [lo, hi],          # bootstrap intervals (fit.intervals), when computed
           per_test: {TEST: value}, per_test_ci95: {TEST: [lo, hi]}}   # a parameter fitted per test
+    values_sha256: 3f1c0a9b27d4          # of the values above and the tests' as the fit wrote them (0.4)
     derived:                             # quantities of the parameters (law 8: mu*N)
       mu*N: {value, unit, description, stderr, ci95}
     intervals: {replicates, method, not_identified: [...]}   # when computed
@@ -35,6 +36,11 @@ the file and key.  Schema 3 (YAML; kN, mm, s)::
     settings: {...}                      # optimizer, bounds, seed, plugins: [{file, sha256}], ...
     warnings: [...]
 
+A value edited by hand no longer matches ``values_sha256``: the file
+loads (a value set on purpose is the user's to set) with a warning, kept
+among its warnings, that its OF, runs and intervals describe the values
+the fit wrote, not these.
+
 A file never runs code: ``settings.plugins`` names the plugin files of the
 model's effects (file name and sha256), and ``load`` imports a plugin only
 when its caller gives it (``plugins=``, ``--plugin``) and it matches.
@@ -42,14 +48,16 @@ when its caller gives it (``plugins=``, ``--plugin``) and it matches.
 
 from __future__ import annotations
 
+import hashlib
 import os
+import warnings
 
 import numpy as np
 import yaml
 
 from .._version import __version__
 from ..catalog import catalog_for, plugin_files, recorded_plugins
-from ..errors import InputError
+from ..errors import FitWarning, InputError
 from ..fit.layout import SEP
 from ..io.staging import plain
 from .parts import BootstrapIntervals, Peaks, RecordSource, RunStats, SolverStatus, TestFit
@@ -59,6 +67,16 @@ SCHEMA_VERSION = 3
 READABLE_SCHEMAS = (1, 2, 3)
 KIND = "fvd_bridge.calibration"
 UNITS = {"force": "kN", "displacement": "mm", "time": "s"}
+#: the key of the digest of the parameter values as the fit wrote them (``values_digest``)
+DIGEST_KEY = "values_sha256"
+
+
+def values_digest(values, tests) -> str:
+    """sha256 (12 hex digits) of the parameter values and of each test's
+    (its per-test values), as floats in the file's order: what a hand edit
+    of a value changes."""
+    text = repr([float(v) for v in values]) + repr([[(k, float(v)) for k, v in t.parameters.items()] for t in tests])
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
 def to_dict(cal) -> dict:
@@ -82,6 +100,7 @@ def to_dict(cal) -> dict:
                      **_interval_entry(cal, p.name),
                      **({"per_test": p.per_test} if p.per_test else {})}
             for p, m, s in zip(cal.params.values(), p_mean, p_sigma)},
+        DIGEST_KEY: values_digest(cal.values, cal.tests),
         "derived": {name: {"value": value, "unit": unit, "description": derived_info[name],
                            **(cal.intervals.derived[name].as_dict()
                               if cal.intervals and name in cal.intervals.derived else {})}
@@ -133,11 +152,19 @@ def read(path: str, catalog=None, plugins=()) -> dict:
     record = RecordSource.from_dict(data.get("record"))  # v1 kept no format, columns, units, reading or peaks
     tests = _tests(path, data.get("tests"), record, of, model)
     _per_test_agree(path, data["parameters"], tests, model)
+    notes = list(data.get("warnings") or [])
+    digest = data.get(DIGEST_KEY)
+    if digest is not None and str(digest) != values_digest(values, tests):
+        edited = (f"{path}: the parameter values are not those the fit wrote (key '{DIGEST_KEY}'): its OF, runs and "
+                  f"intervals describe the fit's values, not these; calibrate again, or delete the key to take "
+                  f"these values as given")
+        warnings.warn(edited, FitWarning, stacklevel=3)
+        notes = [n for n in notes if n != edited] + [edited]
     runs = RunStats(_number(path, "of_mean_over_runs", data.get("of_mean_over_runs", of)),
                     _number(path, "of_sigma_over_runs", data.get("of_sigma_over_runs", 0.0)),
                     tuple(map(float, means)), tuple(map(float, sigmas)))
     return {"model": model, "values": values, "of": of, "bounds": bounds, "record": record,
-            "settings": dict(settings), "warnings": list(data.get("warnings") or []), "runs": runs,
+            "settings": dict(settings), "warnings": notes, "runs": runs,
             "path": os.path.abspath(path), "tests": tests,
             "device": str(data.get("device") or record.name or ""), "intervals": _intervals(data),
             "solver": SolverStatus.from_dict(data.get("solver")), "force_zero": _force_zero(path, data)}

@@ -11,6 +11,7 @@ line, nothing written; the files of earlier versions still load.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import pytest
@@ -140,9 +141,35 @@ def test_files_of_earlier_versions_still_load(path):
     assert cal.spec == str(raw["model"]) and list(cal.named()) == list(raw["parameters"])
 
 
+def test_an_edited_value_loads_flagged_as_not_the_fits(files, tmp_path, capsys):
+    """alpha changed by hand, consistently (it has no per-test copy): the file
+    loads, as a value set on purpose should, but its OF and intervals
+    describe the fit's alpha: one warning line on loading, kept among the
+    calibration's warnings (once, also after saving it again), and the
+    export still written."""
+    def change(data):
+        data["parameters"]["alpha"]["value"] = 0.5
+
+    path = edited(files["friction"], tmp_path, change)
+    with pytest.warns(fb.FitWarning, match="the parameter values are not those the fit wrote"):
+        cal = fb.Calibration.load(str(path))
+    assert cal.named()["alpha"] == 0.5
+    flagged = [w for w in cal.warnings if "not those the fit wrote" in w]
+    assert len(flagged) == 1 and flagged[0].startswith(f"{path}: ")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", fb.FitWarning)  # saved by the tool: its values are the file's again
+        again = fb.Calibration.load(cal.save(str(tmp_path / "again.yaml")))
+    assert [w for w in again.warnings if "not those the fit wrote" in w] == flagged
+    out = tmp_path / "damper.py"
+    assert cli.main(["export", "opensees", str(path), "-o", str(out)]) == 0 and out.exists()
+    assert "warning: " in capsys.readouterr().err
+
+
 def test_the_file_as_written_loads_again_unchanged(files, tmp_path):
     for path in files.values():
-        cal = fb.Calibration.load(str(path))
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", fb.FitWarning)  # the values are the fit's: no edit to flag
+            cal = fb.Calibration.load(str(path))
         again = fb.Calibration.load(cal.save(str(tmp_path / path.name)))
         assert again.named() == cal.named() and again.tests == cal.tests
         assert yaml.safe_load(path.read_text())["parameters"] == \

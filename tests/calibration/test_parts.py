@@ -13,6 +13,7 @@ import yaml
 import fvd_bridge as fb
 from fvd_bridge.calibration import Calibration
 from fvd_bridge.calibration import BootstrapIntervals, Interval, Peaks, RecordSource, RunStats, TestFit
+from fvd_bridge.calibration.schema import DIGEST_KEY, values_digest
 from fvd_bridge.campaign.store import result_from_dict, result_to_dict
 from fvd_bridge.catalog import catalog
 from fvd_bridge.errors import InputError
@@ -75,6 +76,7 @@ def test_files_written_before_the_typed_parts_load_and_save_unchanged(name, tmp_
     for entry in written["parameters"].values():  # 0.4 writes every test's interval, the first's (its ci95) too
         if "per_test_ci95" in entry:
             assert entry["per_test_ci95"].pop(cal.tests[0].name) == entry["ci95"]
+    assert written.pop(DIGEST_KEY) == values_digest(cal.values, cal.tests)  # new in 0.4: the values' digest
     assert {**written, "fvd_bridge_version": None} == {**given, "fvd_bridge_version": None}
     assert again.tests == cal.tests and again.runs == cal.runs and np.array_equal(again.values, cal.values)
     assert again.record == cal.record and again.intervals == cal.intervals and again.settings == cal.settings
@@ -108,6 +110,7 @@ def test_a_fresh_device_calibration_has_typed_parts_and_the_file_shape_of_before
     assert list(written["settings"]) == list(before["settings"])
     # the file of before, and the block of how the best run's search ended (new in 0.4)
     solver = written.pop("solver")
+    assert written.pop(DIGEST_KEY) == values_digest(cal.values, cal.tests)  # new in 0.4 too
     C = written["parameters"]["C"]  # and every test's interval, the first's (its ci95) too (new in 0.4)
     assert list(C["per_test_ci95"]) == ["sn7_slow", "sn7_fast"] and C["per_test_ci95"].pop("sn7_slow") == C["ci95"]
     assert shape({**written, "settings": {}}) == shape({**before, "settings": {}}) and list(written) == list(before)
